@@ -1,0 +1,29 @@
+// The local optimiser of seed 000 (Figures 3 and 4): adjusts each primitive's position, each of
+// its dimensions and its orientation while the mismatch with the target improves.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "csgfit/evaluator.h"
+
+namespace csgfit {
+
+struct LocalOptOptions {
+  int max_sweeps = 80;        ///< M of Table 2: passes over the primitives
+  double initial_step = 2.0;  ///< first step, pixels (angles: the step that moves a tip this far)
+  double min_step = 0.125;    ///< a primitive is settled when its step falls below this
+};
+
+/// Pattern search on the parameters of the given leaves (all leaves when `leaf_indices` is
+/// empty): each parameter is moved by +-step, a move is kept only if the exact mismatch drops
+/// (and is then repeated with a doubled step), and a primitive whose sweep found nothing halves
+/// its step. Returns the number of accepted moves.
+std::size_t optimize_leaves(TreeEvaluator& evaluator, const LocalOptOptions& options,
+                            std::vector<std::size_t> leaf_indices = {});
+
+/// Removes primitives whose removal costs fewer than k mismatched pixels (seed 000's pruning),
+/// one at a time, best first, then simplifies the tree. Returns the number removed.
+std::size_t prune(Node& tree, const Bitmap& target, double k);
+
+}  // namespace csgfit

@@ -1,0 +1,139 @@
+#include "csgfit/local_opt.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace csgfit {
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+enum class Param { X, Y, W, H, Angle, Apex };
+
+// The parameters worth moving for a kind (a circle has one size and no orientation).
+int params_of(PrimitiveKind kind, Param out[6]) {
+  int n = 0;
+  out[n++] = Param::X;
+  out[n++] = Param::Y;
+  out[n++] = Param::W;
+  if (kind != PrimitiveKind::Circle) {
+    out[n++] = Param::H;
+    out[n++] = Param::Angle;
+  }
+  if (kind == PrimitiveKind::Triangle) out[n++] = Param::Apex;
+  return n;
+}
+
+void move(Primitive& p, Param param, double step) {
+  switch (param) {
+    case Param::X: p.cx += step; break;
+    case Param::Y: p.cy += step; break;
+    case Param::W:
+      p.w += step;
+      if (p.kind == PrimitiveKind::Circle) p.h = p.w;
+      break;
+    case Param::H: p.h += step; break;
+    case Param::Angle: {
+      // Turn by the angle that moves the furthest point by about `step` pixels, at most 15 deg.
+      const double reach = std::max(0.5 * std::max(p.w, p.h), 1.0);
+      const double deg = std::clamp(step / reach * kRadToDeg, -15.0, 15.0);
+      p.angle += deg;
+      break;
+    }
+    case Param::Apex: p.apex += step / std::max(0.5 * p.w, 1.0); break;
+  }
+}
+
+}  // namespace
+
+std::size_t optimize_leaves(TreeEvaluator& ev, const LocalOptOptions& options,
+                            std::vector<std::size_t> leaf_indices) {
+  if (leaf_indices.empty())
+    for (std::size_t i = 0; i < ev.leaf_count(); ++i) leaf_indices.push_back(i);
+  std::vector<double> steps(leaf_indices.size(), options.initial_step);
+  std::size_t accepted = 0;
+  for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
+    bool active = false;
+    for (std::size_t li = 0; li < leaf_indices.size(); ++li) {
+      double& step = steps[li];
+      if (step < options.min_step) continue;
+      active = true;
+      const std::size_t leaf = leaf_indices[li];
+      Param params[6];
+      const int np = params_of(ev.leaf(leaf).kind, params);
+      bool improved = false;
+      for (int pi = 0; pi < np; ++pi) {
+        for (double dir : {1.0, -1.0}) {
+          double delta = dir * step;
+          bool moved = false;
+          // Keep going while it pays, doubling the stride (Figure 4's "small steps towards").
+          for (int rep = 0; rep < 6; ++rep) {
+            Primitive trial = ev.leaf(leaf);
+            move(trial, params[pi], delta);
+            const Mismatch m = ev.try_leaf(leaf, trial);
+            if (m.total() >= ev.mismatch().total()) break;
+            ev.leaf(leaf) = trial;
+            ev.update_leaf(leaf);
+            ++accepted;
+            moved = improved = true;
+            delta *= 2;
+          }
+          if (moved) break;  // no need to try the opposite direction
+        }
+      }
+      if (!improved) step *= 0.5;
+    }
+    if (!active) break;
+  }
+  return accepted;
+}
+
+std::size_t prune(Node& tree, const Bitmap& target, double k) {
+  std::size_t removed = 0;
+  for (;;) {
+    if (tree.primitive_count() <= 1) break;
+    TreeEvaluator ev(target, tree);
+    const std::size_t base = ev.mismatch().total();
+    const std::size_t target_count = target.count();
+    std::size_t best_leaf = 0;
+    double best_gain = 0;
+    for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+      const Mismatch m = ev.try_without_leaf(i);
+      if (m.excess == 0 && m.uncovered == target_count) continue;  // would leave nothing
+      // Removing a leaf saves k; it pays when the extra mismatch is below that.
+      const double gain = k - (static_cast<double>(m.total()) - static_cast<double>(base));
+      if (gain > best_gain) {
+        best_gain = gain;
+        best_leaf = i;
+      }
+    }
+    if (best_gain <= 0) break;
+    // Remove the leaf from its parent, then let simplify collapse what is left.
+    std::vector<Primitive*> ls = leaves(tree);
+    const Primitive* target_leaf = ls[best_leaf];
+    std::function<bool(Node&)> erase = [&](Node& n) -> bool {
+      for (std::size_t c = 0; c < n.children.size(); ++c) {
+        Node& ch = n.children[c];
+        if (ch.is_leaf() && &ch.primitive == target_leaf) {
+          if (n.kind == NodeKind::Difference && c == 0) {
+            n.children.clear();  // the difference loses its base: the whole node goes
+          } else {
+            n.children.erase(n.children.begin() + static_cast<std::ptrdiff_t>(c));
+          }
+          return true;
+        }
+        if (!ch.is_leaf() && erase(ch)) return true;
+      }
+      return false;
+    };
+    erase(tree);
+    if (!simplify(tree)) break;  // cannot happen: more than one leaf was present
+    ++removed;
+  }
+  return removed;
+}
+
+}  // namespace csgfit
