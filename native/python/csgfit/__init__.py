@@ -286,6 +286,8 @@ def _mask_from_array(array, threshold: Optional[int], invert: bool):
     if a.ndim != 2:
         raise InputError(f"expected a 2D array (height x width), got {a.ndim} dimension"
                          f"{'' if a.ndim == 1 else 's'}")
+    if a.size == 0:
+        raise InputError(f"empty image ({a.shape[1]} x {a.shape[0]} pixels)")
     if a.dtype == np.bool_:
         return np.logical_not(a) if invert else a
     if a.dtype == np.uint8:
@@ -352,8 +354,7 @@ def fit_image(image, *, threshold: Optional[int] = None, invert: bool = False,
         mask = _mask_from_array(image, threshold, invert)
         source = ""
     if not mask.any():
-        raise InputError("no shape found: the image has no shape pixels"
-                         + (" (try invert=True)" if mask.size else ""))
+        raise InputError("no shape found: the image has no shape pixels (try invert=True?)")
     native = _csgfit.fit(mask, k=-1.0 if k is None else float(k),
                          primitives=_primitive_list(primitives), time=float(time),
                          threads=int(threads), seed=int(seed), alternatives=int(alternatives),
