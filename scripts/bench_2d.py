@@ -26,7 +26,6 @@ import statistics
 import struct
 import subprocess
 import sys
-import tempfile
 import time
 import xml.etree.ElementTree as ET
 import zlib
