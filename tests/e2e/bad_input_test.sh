@@ -1,0 +1,152 @@
+#!/usr/bin/env bash
+# `csgfit image` on bad input: every case must exit non-zero with one line on stderr that names
+# the problem, and must leave no output file (nor a temporary one) behind. Plus the positive
+# edge cases next to them: an all-black image is one rectangle, an oversize image is accepted
+# with --max-size.
+#
+# usage: bash bad_input_test.sh <path-to-csgfit-cli> [source-dir]
+set -u
+
+cli=${1:?usage: bad_input_test.sh <csgfit-cli> [source-dir]}
+py=/usr/bin/python3
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/csgfit-bad-input-XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+
+fail() {
+  echo "FAIL: $*" >&2
+  failures=$((failures + 1))
+}
+
+# make_png PATH WIDTH HEIGHT PATTERN: an 8-bit grey PNG; PATTERN is black, white or half
+# (left half black, right half white).
+make_png() {
+  "$py" - "$@" <<'EOF'
+import struct, sys, zlib
+
+path, width, height, pattern = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+if pattern == "black":
+    row = bytes(width)
+elif pattern == "white":
+    row = b"\xff" * width
+else:
+    row = bytes(width // 2) + b"\xff" * (width - width // 2)
+raw = (b"\x00" + row) * height  # filter byte 0 (none) before every row
+
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+with open(path, "wb") as f:
+    f.write(b"\x89PNG\r\n\x1a\n")
+    f.write(chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)))
+    f.write(chunk(b"IDAT", zlib.compress(raw, 6)))
+    f.write(chunk(b"IEND", b""))
+EOF
+}
+
+# expect_failure NAME KEYWORD OUTPUT ARGS...: runs `csgfit ARGS...` and checks the failure.
+expect_failure() {
+  local name=$1 keyword=$2 output=$3
+  shift 3
+  local err="$tmp/$name.stderr"
+  timeout 120 "$cli" "$@" >"$tmp/$name.stdout" 2>"$err"
+  local rc=$?
+  local lines
+  lines=$(wc -l <"$err")
+  if [ "$rc" -eq 0 ]; then
+    fail "$name: exit status 0, expected a failure"
+  elif [ "$rc" -eq 124 ]; then
+    fail "$name: timed out"
+  elif [ "$rc" -ge 128 ]; then
+    fail "$name: killed by signal $((rc - 128))"
+  fi
+  if [ "$lines" -ne 1 ]; then
+    fail "$name: expected one line on stderr, got $lines: $(head -c 500 "$err")"
+  fi
+  if ! grep -qiF -- "$keyword" "$err"; then
+    fail "$name: stderr does not mention '$keyword': $(head -c 500 "$err")"
+  fi
+  if [ -e "$output" ]; then
+    fail "$name: output '$output' exists after a failure"
+  fi
+  if compgen -G "$output.tmp-*" >/dev/null; then
+    fail "$name: temporary file left behind: $(compgen -G "$output.tmp-*")"
+  fi
+  echo "ok: $name: $(cat "$err")"
+}
+
+# expect_success NAME OUTPUT ARGS...
+expect_success() {
+  local name=$1 output=$2
+  shift 2
+  timeout 120 "$cli" "$@" >"$tmp/$name.stdout" 2>"$tmp/$name.stderr"
+  local rc=$?
+  if [ "$rc" -ne 0 ]; then
+    fail "$name: exit status $rc: $(head -c 500 "$tmp/$name.stderr")"
+    return 1
+  fi
+  if [ ! -s "$output" ]; then
+    fail "$name: no output '$output'"
+    return 1
+  fi
+  echo "ok: $name"
+}
+
+out="$tmp/out.scad"
+
+# Missing, unreadable and non-image inputs.
+expect_failure missing "No such file" "$out" image "$tmp/missing.png" -o "$out" --time 1
+
+mkdir "$tmp/folder.png"
+expect_failure directory "directory" "$out" image "$tmp/folder.png" -o "$out" --time 1
+
+: >"$tmp/empty.png"
+expect_failure empty "empty" "$out" image "$tmp/empty.png" -o "$out" --time 1
+
+make_png "$tmp/full.png" 64 64 half
+size=$(stat -c %s "$tmp/full.png")
+head -c $((size / 2)) "$tmp/full.png" >"$tmp/truncated.png"
+expect_failure truncated_png "truncated" "$out" image "$tmp/truncated.png" -o "$out" --time 1
+
+echo "this is a text file, not a picture" >"$tmp/notes.png"
+expect_failure text_as_png "not an image" "$out" image "$tmp/notes.png" -o "$out" --time 1
+
+# A header that declares 100000 x 100000 pixels must be refused from the header alone.
+printf 'P5 100000 100000 255\n' >"$tmp/huge.pgm"
+expect_failure huge_header "over the limit" "$out" image "$tmp/huge.pgm" -o "$out" --time 1
+
+# Nothing to fit.
+make_png "$tmp/white.png" 16 16 white
+expect_failure all_white "no shape found" "$out" image "$tmp/white.png" -o "$out" --time 1
+
+# Over the default limit of 4096 x 4096 pixels: refused, then accepted with --max-size.
+make_png "$tmp/oversize.png" 4100 4100 half
+expect_failure oversize "over the limit" "$out" image "$tmp/oversize.png" -o "$out" --time 1
+if expect_success oversize_max_size "$out" image "$tmp/oversize.png" -o "$out" --time 1 \
+    --max-size 64; then
+  grep -q 'square(' "$out" || fail "oversize_max_size: no rectangle in $out"
+fi
+rm -f "$out"
+
+# Bad options and outputs.
+make_png "$tmp/black.png" 16 16 black
+expect_failure unknown_option "bogus" "$out" image "$tmp/black.png" -o "$out" --time 1 --bogus
+expect_failure unknown_extension "unknown output format" "$tmp/out.xyz" \
+  image "$tmp/black.png" -o "$tmp/out.xyz" --time 1
+expect_failure missing_output_folder "cannot write" "$tmp/nowhere/out.scad" \
+  image "$tmp/black.png" -o "$tmp/nowhere/out.scad" --time 1
+
+# The positive edge case: an all-black image is exactly one rectangle.
+if expect_success all_black "$out" image "$tmp/black.png" -o "$out" --time 1; then
+  squares=$(grep -o 'square(' "$out" | wc -l)
+  [ "$squares" -eq 1 ] || fail "all_black: expected exactly one square( in $out, found $squares"
+fi
+if compgen -G "$tmp/*.tmp-*" >/dev/null; then
+  fail "temporary files left behind: $(compgen -G "$tmp/*.tmp-*")"
+fi
+
+if [ "$failures" -ne 0 ]; then
+  echo "$failures check(s) failed" >&2
+  exit 1
+fi
+echo "all bad-input checks passed"
