@@ -1,0 +1,130 @@
+"""Shared helpers of the FreeCAD tests: locating FreeCAD, the built csgfit module and the
+benchmarks, rasterising a section of a solid, and an independent CSG evaluation of a JSON tree
+with plain Part shapes (to check what the parametric tree computes)."""
+
+import math
+import os
+import sys
+
+import numpy as np
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.environ.get("CSGFIT_BUILD_DIR", os.path.join(REPO, "build"))
+BENCH = os.path.join(os.path.dirname(REPO), "shared", "benchmarks", "2d")
+FREECAD_LIB = "/usr/lib/freecad-python3/lib"
+WORKBENCH = os.path.join(REPO, "freecad_workbench")
+
+if FREECAD_LIB not in sys.path:
+    sys.path.append(FREECAD_LIB)
+if WORKBENCH not in sys.path:
+    sys.path.insert(0, WORKBENCH)
+if os.path.join(BUILD, "python") not in sys.path:
+    sys.path.insert(0, os.path.join(BUILD, "python"))
+
+
+def section_mask(shape, width, height, pixel_size, z):
+    """Pixel-centre raster (bool, row 0 at the top) of the section of `shape` at height z:
+    the section's wires, finely discretised, filled with the even-odd rule."""
+    import FreeCAD as App
+
+    s = pixel_size
+    polys = []
+    for wire in shape.slice(App.Vector(0, 0, 1), z):
+        pts = np.array([(p.x, p.y) for p in wire.discretize(Deflection=s * 1e-3)])
+        if len(pts) >= 3:
+            polys.append(pts)
+    xs = (np.arange(width) + 0.5) * s
+    mask = np.zeros((height, width), bool)
+    if not polys:
+        return mask
+    x1 = np.concatenate([p[:, 0] for p in polys])
+    y1 = np.concatenate([p[:, 1] for p in polys])
+    x2 = np.concatenate([np.roll(p[:, 0], -1) for p in polys])
+    y2 = np.concatenate([np.roll(p[:, 1], -1) for p in polys])
+    for row in range(height):
+        y = (height - row - 0.5) * s
+        cross = (y1 > y) != (y2 > y)
+        if not cross.any():
+            continue
+        xi = x1[cross] + (y - y1[cross]) * (x2[cross] - x1[cross]) / (y2[cross] - y1[cross])
+        xi.sort()
+        # Odd number of crossings to the right = inside.
+        mask[row] = (len(xi) - np.searchsorted(xi, xs)) % 2 == 1
+    return mask
+
+
+def iou(a, b):
+    a, b = np.asarray(a, bool), np.asarray(b, bool)
+    union = np.logical_or(a, b).sum()
+    return 1.0 if union == 0 else float(np.logical_and(a, b).sum() / union)
+
+
+def static_shape(node, thickness):
+    """The solid of a JSON tree (model units) built directly with Part's functions: an
+    evaluation independent of the builder's parametric objects."""
+    import FreeCAD as App
+    import Part
+
+    z = App.Vector(0, 0, 1)
+    if "op" in node:
+        shapes = [static_shape(c, thickness) for c in node["children"]]
+        if len(shapes) == 1:
+            return shapes[0]
+        if node["op"] == "union":
+            return shapes[0].fuse(shapes[1:])
+        if node["op"] == "intersection":
+            out = shapes[0]
+            for s in shapes[1:]:
+                out = out.common(s)
+            return out
+        return shapes[0].cut(shapes[1:])
+    t = node["type"]
+    cx, cy = node["cx"], node["cy"]
+    a = math.radians(node.get("angle", 0.0))
+    c, s = math.cos(a), math.sin(a)
+
+    def local(x, y):
+        return App.Vector(cx + c * x - s * y, cy + s * x + c * y, 0)
+
+    if t in ("rectangle", "rect"):
+        w, h = node["w"], node["h"]
+        pts = [local(-w / 2, -h / 2), local(w / 2, -h / 2), local(w / 2, h / 2),
+               local(-w / 2, h / 2)]
+    elif t == "triangle":
+        w, h, apex = node["w"], node["h"], node.get("apex", 0.0)
+        pts = [local(-w / 2, -h / 2), local(w / 2, -h / 2), local(apex * w / 2, h / 2)]
+    elif t == "circle":
+        return Part.makeCylinder(node["r"], thickness, App.Vector(cx, cy, 0), z)
+    elif t == "ellipse":
+        rx, ry = node["rx"], node["ry"]
+        major, minor, ang = (rx, ry, a) if rx >= ry else (ry, rx, a + math.pi / 2)
+        e = Part.Ellipse(App.Vector(0, 0, 0), major, minor)
+        face = Part.Face(Part.Wire(e.toShape()))
+        face.rotate(App.Vector(0, 0, 0), z, math.degrees(ang))
+        face.translate(App.Vector(cx, cy, 0))
+        return face.extrude(z * thickness)
+    else:
+        raise ValueError(t)
+    face = Part.Face(Part.makePolygon(pts + [pts[0]]))
+    return face.extrude(z * thickness)
+
+
+def components(mask):
+    """Number of 4-connected components of a bool mask."""
+    m = np.asarray(mask, bool)
+    h, w = m.shape
+    seen = np.zeros_like(m)
+    n = 0
+    for r0, c0 in zip(*np.nonzero(m)):
+        if seen[r0, c0]:
+            continue
+        n += 1
+        stack = [(r0, c0)]
+        seen[r0, c0] = True
+        while stack:
+            r, c = stack.pop()
+            for rr, cc in ((r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)):
+                if 0 <= rr < h and 0 <= cc < w and m[rr, cc] and not seen[rr, cc]:
+                    seen[rr, cc] = True
+                    stack.append((rr, cc))
+    return n
