@@ -1,0 +1,292 @@
+// The `csgfit` command line.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include "csgfit/error.h"
+#include "csgfit/fit.h"
+#include "csgfit/image_io.h"
+#include "csgfit/json_io.h"
+#include "scad_writer.h"
+
+namespace fs = std::filesystem;
+using namespace csgfit;
+
+namespace {
+
+enum class OutputFormat { Scad, Json, FCStd };
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+OutputFormat output_format(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".scad") return OutputFormat::Scad;
+  if (ext == ".json") return OutputFormat::Json;
+  if (ext == ".fcstd") return OutputFormat::FCStd;
+  throw InputError("unknown output format '" + (ext.empty() ? path : ext) +
+                   "' (expected .scad, .json or .FCStd)");
+}
+
+// Fails before a long fit rather than after it.
+void check_writable(const std::string& path) {
+  const fs::path parent = fs::absolute(fs::path(path)).parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(parent, ec))
+    throw InputError("cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
+  if (access(parent.c_str(), W_OK) != 0)
+    throw InputError("cannot write '" + path + "': " + std::strerror(errno));
+  if (fs::is_directory(fs::path(path), ec)) throw InputError("cannot write '" + path + "': it is a folder");
+}
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A one-line bar redrawn in place; only when stderr is a terminal.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
+  bool update(const FitProgress& p) {
+    if (!enabled_) return true;
+    const int width = 30;
+    const int filled = static_cast<int>(std::lround(p.fraction * width));
+    std::fprintf(stderr, "\r[%s%s] %3d%%  score %.0f  %zu primitives  %zu evaluations  %.1f s ",
+                 std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                 std::string(static_cast<std::size_t>(width - filled), '.').c_str(),
+                 static_cast<int>(std::lround(p.fraction * 100)), p.best_score, p.best_primitives,
+                 p.evaluations, p.seconds);
+    std::fflush(stderr);
+    drawn_ = true;
+    return true;
+  }
+  void finish() {
+    if (drawn_) std::fprintf(stderr, "\r%*s\r", 110, "");
+  }
+
+ private:
+  bool enabled_;
+  bool drawn_ = false;
+};
+
+std::string alternative_path(const std::string& out, std::size_t i) {
+  fs::path p(out);
+  return (p.parent_path() / (p.stem().string() + ".alt" + std::to_string(i) + p.extension().string()))
+      .string();
+}
+
+// .FCStd goes through FreeCAD's own Python API, headless.
+void write_fcstd(const std::string& json_text, const std::string& out) {
+  const char* env = std::getenv("CSGFIT_FCSTD_WRITER");
+  std::string writer = env ? env : "";
+  if (writer.empty()) {
+    for (const fs::path& cand :
+         {fs::path(CSGFIT_SOURCE_DIR) / "freecad_workbench" / "fcstd_writer.py"})
+      if (fs::exists(cand)) writer = cand.string();
+  }
+  if (writer.empty() || !fs::exists(writer))
+    throw InputError("cannot write .FCStd: the FreeCAD writer script was not found (set CSGFIT_FCSTD_WRITER)");
+  const fs::path tmp = fs::temp_directory_path() / ("csgfit-" + std::to_string(getpid()) + ".json");
+  write_file_atomic(tmp.string(), json_text);
+  const std::string cmd = "CSGFIT_JSON='" + tmp.string() + "' CSGFIT_FCSTD='" +
+                          fs::absolute(out).string() + "' freecadcmd '" + writer + "' > /dev/null 2>&1";
+  const int rc = std::system(cmd.c_str());
+  fs::remove(tmp);
+  if (rc != 0 || !fs::exists(out))
+    throw InputError("cannot write '" + out + "': FreeCAD (freecadcmd) failed or is not installed");
+}
+
+void write_result(const FitResult& result, const ModelFrame& frame, const std::string& out,
+                  int fn) {
+  ScadOptions scad;
+  scad.fn = fn;
+  switch (output_format(out)) {
+    case OutputFormat::Scad: {
+      write_file_atomic(out, to_scad(result.tree, frame, scad, &result.stats));
+      for (std::size_t i = 0; i < result.alternatives.size(); ++i)
+        write_file_atomic(alternative_path(out, i + 1),
+                          to_scad(result.alternatives[i].tree, frame, scad,
+                                  &result.alternatives[i].stats));
+      break;
+    }
+    case OutputFormat::Json: write_file_atomic(out, to_json(result, frame)); break;
+    case OutputFormat::FCStd: write_fcstd(to_json(result, frame), out); break;
+  }
+}
+
+SearchParams quality_params(const std::string& preset, const std::string& quality) {
+  SearchParams p = preset == "paper" ? SearchParams::paper() : SearchParams{};
+  if (preset == "paper") return p;  // the paper's Table 2 as it is
+  if (quality == "fast") {
+    p.population = 8;
+    p.max_stale = 1500;
+  } else if (quality == "best") {
+    p.population = 48;
+    p.max_stale = 20000;
+  }
+  return p;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"csgfit: turn bitmaps into compact, editable CSG trees (OpenSCAD, JSON, FreeCAD)"};
+  app.set_version_flag("--version", std::string("csgfit ") + CSGFIT_VERSION);
+  app.require_subcommand(1);
+
+  // csgfit image
+  std::string in, out, preview, raster, primitives = "all", quality = "default", preset = "default";
+  double time_limit = 10, k = -1, pixel_size = 1, thickness = 0;
+  int threads = 0, threshold = -1, alternatives = 0, max_size = 0, fn = 96;
+  long long max_pixels = 4096LL * 4096LL;
+  std::uint64_t seed = 1;
+  bool invert = false, quiet = false;
+  CLI::App* image = app.add_subcommand("image", "fit a CSG tree to a bitmap");
+  image->add_option("input", in, "PNG, JPEG, BMP, PGM/PBM or TGA image")->required();
+  image->add_option("-o,--output", out, "output: .scad, .json or .FCStd")->required();
+  image->add_option("--time", time_limit, "time budget in seconds")->check(CLI::PositiveNumber);
+  image->add_option("--seed", seed, "random seed: same seed and threads, same tree");
+  image->add_option("--threads", threads, "worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+  image->add_option("--quality", quality, "fast, default or best")
+      ->check(CLI::IsMember({"fast", "default", "best"}));
+  image->add_option("--preset", preset, "search parameters: default or paper (seed 000, Table 2)")
+      ->check(CLI::IsMember({"default", "paper"}));
+  image->add_option("--k", k, "size weight per primitive (default: 25 at 128 x 128, scaled to the area)")
+      ->check(CLI::NonNegativeNumber);
+  image->add_option("--primitives", primitives, "comma-separated: rectangle,circle,ellipse,triangle (or all)");
+  image->add_option("--alternatives", alternatives, "also write up to N structurally different trees")
+      ->check(CLI::Range(0, 20));
+  image->add_option("--threshold", threshold, "grey level 0-255 (default: Otsu)")->check(CLI::Range(0, 255));
+  image->add_flag("--invert", invert, "light pixels are the shape");
+  image->add_option("--pixel-size", pixel_size, "millimetres per pixel")->check(CLI::PositiveNumber);
+  image->add_option("--thickness", thickness, "extrude the 2D result to this height (mm)")
+      ->check(CLI::NonNegativeNumber);
+  image->add_option("--max-size", max_size, "downsample images larger than N pixels on a side")
+      ->check(CLI::PositiveNumber);
+  image->add_option("--max-pixels", max_pixels, "refuse images with more pixels than this")
+      ->check(CLI::PositiveNumber);
+  image->add_option("--preview", preview, "PNG of input and result overlaid (excess red, uncovered blue)");
+  image->add_option("--raster", raster, "PNG of the solver's own raster of the result");
+  image->add_option("--fn", fn, "OpenSCAD $fn for circles and ellipses")->check(CLI::Range(3, 1000));
+  image->add_flag("-q,--quiet", quiet, "no progress bar and no summary");
+
+  // csgfit export: a saved JSON result to another format
+  std::string ex_in, ex_out;
+  CLI::App* exporter = app.add_subcommand("export", "convert a csgfit .json result to .scad, .json or .FCStd");
+  exporter->add_option("input", ex_in, "csgfit .json result")->required();
+  exporter->add_option("-o,--output", ex_out, "output: .scad, .json or .FCStd")->required();
+  exporter->add_option("--fn", fn, "OpenSCAD $fn")->check(CLI::Range(3, 1000));
+
+  // csgfit render: the solver's raster of a saved result
+  std::string rd_in, rd_out;
+  CLI::App* renderer = app.add_subcommand("render", "draw a csgfit .json result as the solver rasterises it");
+  renderer->add_option("input", rd_in, "csgfit .json result")->required();
+  renderer->add_option("-o,--output", rd_out, "PNG")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string msg = e.what();
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    std::cerr << "csgfit: " << msg << " (see csgfit --help)\n";
+    return 2;
+  }
+
+  try {
+    if (*exporter) {
+      output_format(ex_out);
+      check_writable(ex_out);
+      ModelFrame frame;
+      FitResult result = from_json(read_text_file(ex_in), &frame);
+      write_result(result, frame, ex_out, fn);
+      return 0;
+    }
+    if (*renderer) {
+      check_writable(rd_out);
+      FitResult result = from_json(read_text_file(rd_in));
+      const Bitmap r = render(result.tree, result.width, result.height);
+      write_bitmap_png(rd_out, r);
+      return 0;
+    }
+
+    output_format(out);
+    check_writable(out);
+    if (!preview.empty()) check_writable(preview);
+    if (!raster.empty()) check_writable(raster);
+    FitOptions options;
+    try {
+      options.primitives = PrimitiveSet::parse(primitives);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("--primitives: ") + e.what());
+    }
+    options.k = k;
+    options.time_limit = time_limit;
+    options.threads = threads;
+    options.seed = seed;
+    options.alternatives = alternatives;
+    options.search = quality_params(preset, quality);
+
+    ImageReadOptions read;
+    read.threshold = threshold;
+    read.invert = invert;
+    read.max_size = max_size;
+    read.max_pixels = max_pixels;
+    const Bitmap target = read_bitmap(in, read);
+    if (target.count() == 0)
+      throw InputError("no shape found in '" + in + "' (all pixels are background; try --invert or --threshold)");
+
+    ProgressBar bar(!quiet);
+    FitResult result = fit_bitmap(target, options, [&](const FitProgress& p) { return bar.update(p); });
+    bar.finish();
+
+    ModelFrame frame;
+    frame.pixel_size = pixel_size;
+    frame.thickness = thickness;
+    frame.source = fs::path(in).filename().string();
+    write_result(result, frame, out, fn);
+    const Bitmap fitted = render(result.tree, result.width, result.height);
+    if (!preview.empty()) write_preview_png(preview, target, fitted, target.width() < 256 ? 4 : 1);
+    if (!raster.empty()) write_bitmap_png(raster, fitted);
+    if (!quiet) {
+      std::fprintf(stderr, "csgfit: IoU %.4f, %zu primitives, %zu evaluations, %.2f s (%s)\n",
+                   result.stats.iou, result.stats.primitives, result.stats.evaluations,
+                   result.stats.seconds, result.stats.stop_reason.c_str());
+    }
+    return 0;
+  } catch (const InputError& e) {
+    std::cerr << "csgfit: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "csgfit: " << e.what() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "csgfit: out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "csgfit: internal error: " << e.what() << "\n";
+    return 1;
+  }
+}
