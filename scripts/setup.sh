@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# One entry point for a fresh Debian 12 machine (README "Quick start"):
+#   bash scripts/setup.sh example   install what is missing, build, convert examples/bracket.png
+#   bash scripts/setup.sh test      install what is missing, build, run every test
+# Idempotent: packages already installed are not touched, the build is incremental.
+set -euo pipefail
+
+mode="${1:-example}"
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${CSGFIT_BUILD_DIR:-$repo/build}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+# Debian packages: build tools and libraries, then what the integration tests drive.
+packages=(
+  build-essential cmake pkg-config
+  libstb-dev nlohmann-json3-dev libcli11-dev libeigen3-dev
+  libgtest-dev libbenchmark-dev
+  python3 python3-dev python3-numpy python3-pytest python3-pil pybind11-dev python3-pybind11
+  openscad potrace freecad xvfb xauth
+)
+
+install_packages() {
+  local missing=()
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "setup: installing ${missing[*]}"
+  local sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+}
+
+build_all() {
+  cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCSGFIT_BUILD_TESTS=ON \
+    -DCSGFIT_BUILD_PYTHON=ON -DPython3_EXECUTABLE=/usr/bin/python3
+  cmake --build "$build" -j "$jobs"
+  CSGFIT_BUILD_DIR="$build" bash "$repo/scripts/install_workbench.sh"
+}
+
+run_tests() {
+  local failed=0
+  echo "== C++ and end-to-end tests (ctest)"
+  (cd "$build" && ctest --output-on-failure -j "$jobs") || failed=1
+
+  echo "== Python module and FreeCAD tests (pytest on /usr/bin/python3)"
+  CSGFIT_BUILD_DIR="$build" /usr/bin/python3 -m pytest -q "$repo/tests/python" "$repo/tests/freecad" || failed=1
+
+  echo "== C++ tests under AddressSanitizer and UndefinedBehaviorSanitizer"
+  local asan="$build-asan"
+  cmake -S "$repo" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCSGFIT_SANITIZE=ON \
+    -DCSGFIT_BUILD_TESTS=ON -DCSGFIT_BUILD_PYTHON=OFF >/dev/null
+  cmake --build "$asan" -j "$jobs" --target csgfit_tests csgfit
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    "$asan/bin/csgfit_tests" --gtest_brief=1 || failed=1
+
+  if [ $failed -ne 0 ]; then
+    echo "setup: some tests failed" >&2
+    exit 1
+  fi
+  echo "setup: all tests passed"
+}
+
+case "$mode" in
+  example)
+    install_packages
+    build_all
+    "$build/bin/csgfit" image "$repo/examples/bracket.png" -o "$repo/bracket.scad" --time 2 \
+      --pixel-size 0.5 --preview "$repo/bracket_preview.png"
+    echo "setup: wrote $repo/bracket.scad (open it in OpenSCAD) and $repo/bracket_preview.png"
+    ;;
+  test)
+    install_packages
+    build_all
+    run_tests
+    ;;
+  *)
+    echo "usage: bash scripts/setup.sh [example|test]" >&2
+    exit 2
+    ;;
+esac
