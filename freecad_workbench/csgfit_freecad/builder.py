@@ -51,16 +51,13 @@ class BuildResult:
     objects in tree pre-order (each entry: (primitive dict, the object holding its dimensions,
     the object carrying the solid))."""
 
-    def __init__(self, group, root, sheet, primitives):
+    def __init__(self, group, root, sheet, primitives, objects):
         self.group = group
         self.root = root
         self.sheet = sheet
         self.primitives = primitives
-
-    @property
-    def objects(self) -> List[Any]:
-        """Every object of the tree (not the group or the sheet)."""
-        return [o for o in self.group.Group if o is not self.sheet]
+        #: Every object of the tree (not the group or the sheet), in creation order.
+        self.objects = objects
 
 
 def load_result(source: Any) -> Dict[str, Any]:
@@ -308,7 +305,10 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
         doc.removeObject(sheet.Name)
         doc.removeObject(group.Name)
         raise
-    group.addObjects([sheet] + builder.created)
+    # The group holds the sheet and the root; the root's boolean claims its inputs, so the tree
+    # view nests the whole CSG tree under it (listing every object in the group as well would
+    # show each one twice).
+    group.addObjects([sheet, root])
 
     def prop(kind, pname, doc_text, value):
         group.addProperty(kind, pname, "CSG Fit", doc_text)
@@ -331,7 +331,7 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
             _hide(obj)
     if recompute:
         doc.recompute()
-    return BuildResult(group, root, sheet, builder.primitives)
+    return BuildResult(group, root, sheet, builder.primitives, builder.created)
 
 
 def _hide(obj) -> None:
@@ -346,11 +346,20 @@ def find_groups(doc) -> List[Any]:
     return [o for o in doc.Objects if hasattr(o, "CsgFitJson")]
 
 
+def tree_objects(group) -> List[Any]:
+    """The objects of a group's CSG tree: the root and everything it depends on, except the
+    parameter sheet."""
+    root = group.CsgFitRoot
+    if root is None:
+        return []
+    return [root] + [o for o in root.OutListRecursive if o.TypeId != "Spreadsheet::Sheet"]
+
+
 def check_tree(doc, group) -> List[str]:
     """Problems with a built tree, [] when it is sound: every object recomputed, only
     parametric types, a valid non-empty solid at the root."""
     problems = []
-    for obj in group.Group:
+    for obj in list(group.Group) + tree_objects(group):
         if "Invalid" in obj.State or "Error" in obj.State:
             problems.append(f"{obj.Label}: {', '.join(obj.State)}")
         if obj.TypeId not in PARAMETRIC_TYPES + ("Spreadsheet::Sheet",):

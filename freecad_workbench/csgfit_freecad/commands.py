@@ -1,0 +1,107 @@
+"""GUI commands of the CSG Fit workbench: "Image to CSG" and "Export OpenSCAD"."""
+
+import os
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide2 import QtWidgets
+
+from . import builder, icon, import_csgfit
+
+IMAGE_TO_CSG = "CSGFit_ImageToCSG"
+EXPORT_SCAD = "CSGFit_ExportOpenSCAD"
+COMMANDS = [IMAGE_TO_CSG, EXPORT_SCAD]
+#: The last Image to CSG panel opened (scripts and the GUI test drive it).
+active_panel = None
+
+
+def _message(title, text):
+    QtWidgets.QMessageBox.warning(Gui.getMainWindow(), title, text)
+
+
+class ImageToCsgCommand:
+    """Opens the Image to CSG task panel."""
+
+    def GetResources(self):
+        return {"Pixmap": icon("csgfit_image_to_csg"),
+                "MenuText": "Image to CSG",
+                "ToolTip": "Fit a parametric CSG tree of primitives to a bitmap"}
+
+    def IsActive(self):
+        return not Gui.Control.activeDialog()
+
+    def Activated(self):
+        global active_panel
+        from .task_panel import ImageToCsgPanel
+        active_panel = ImageToCsgPanel()
+        Gui.Control.showDialog(active_panel)
+
+
+def selected_group():
+    """The csgfit group of the selection (the group itself or any object inside it)."""
+    for obj in Gui.Selection.getSelection():
+        if hasattr(obj, "CsgFitJson"):
+            return obj
+        for parent in obj.InListRecursive:
+            if hasattr(parent, "CsgFitJson"):
+                return parent
+    doc = App.ActiveDocument
+    groups = builder.find_groups(doc) if doc else []
+    return groups[0] if len(groups) == 1 else None
+
+
+def export_scad(group, path):
+    """Writes the tree stored on a csgfit group as .scad, with the group's current thickness
+    (the parameter sheet's cell) and the tree the group shows."""
+    csgfit = import_csgfit()
+    result = csgfit.load_json(group.CsgFitJson)
+    sheet = next((o for o in group.Group if o.TypeId == "Spreadsheet::Sheet"), None)
+    if sheet is not None:
+        result.thickness = float(sheet.get("thickness"))
+    index = getattr(group, "CsgFitAlternative", -1)
+    text = result.to_scad() if index < 0 else result.alternatives[index].to_scad()
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(text)
+    os.replace(tmp, path)
+    return path
+
+
+class ExportScadCommand:
+    """Writes the selected CSG Fit result as an OpenSCAD file."""
+
+    def GetResources(self):
+        return {"Pixmap": icon("csgfit_export_scad"),
+                "MenuText": "Export OpenSCAD",
+                "ToolTip": "Write the selected CSG Fit result as an OpenSCAD (.scad) file"}
+
+    def IsActive(self):
+        return App.ActiveDocument is not None
+
+    def Activated(self):
+        group = selected_group()
+        if group is None:
+            _message("Export OpenSCAD", "Select a CSG Fit result (its group or any object in it).")
+            return
+        default = os.path.join(os.path.expanduser("~"), group.Label + ".scad")
+        path, _ = QtWidgets.QFileDialog.getSaveFileName(Gui.getMainWindow(), "Export OpenSCAD",
+                                                        default, "OpenSCAD (*.scad)")
+        if not path:
+            return
+        try:
+            export_scad(group, path)
+        except Exception as e:
+            _message("Export OpenSCAD", f"Could not write {path}: {e}")
+            return
+        App.Console.PrintMessage(f"CSG Fit: wrote {path}\n")
+
+
+_registered = False
+
+
+def register():
+    global _registered
+    if not _registered:
+        Gui.addCommand(IMAGE_TO_CSG, ImageToCsgCommand())
+        Gui.addCommand(EXPORT_SCAD, ExportScadCommand())
+        _registered = True

@@ -1,0 +1,159 @@
+# GUI test macro, run by test_freecad_gui.py as `xvfb-run -a freecad gui_macro.py`.
+# Drives the CSG Fit workbench through its own code: activates it, runs "Image to CSG" on a
+# bitmap through the task panel (bad file, cancel, fit, preview, accept), checks the tree,
+# exports OpenSCAD, saves screenshots, writes a JSON report to $CSGFIT_GUI_REPORT and exits.
+import json
+import os
+import sys
+import time
+import traceback
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide2 import QtCore, QtWidgets
+
+report = {"ok": False, "steps": []}
+REPORT = os.environ["CSGFIT_GUI_REPORT"]
+IMAGE = os.environ["CSGFIT_GUI_IMAGE"]
+SHOTS = os.environ.get("CSGFIT_GUI_SHOTS", os.path.dirname(REPORT))
+
+
+def step(name, **info):
+    report["steps"].append(dict(name=name, **info))
+
+
+def pump(seconds):
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        QtWidgets.QApplication.processEvents(QtCore.QEventLoop.AllEvents, 50)
+        time.sleep(0.01)
+
+
+def wait_fit(panel, limit):
+    t0 = time.monotonic()
+    while panel.is_running() or panel.timer.isActive():
+        QtWidgets.QApplication.processEvents(QtCore.QEventLoop.AllEvents, 50)
+        time.sleep(0.01)
+        if time.monotonic() - t0 > limit:
+            raise RuntimeError("fit did not finish")
+    return time.monotonic() - t0
+
+
+def shot(name):
+    """Screenshot of the main window. QWidget.grab() leaves the OpenGL 3D view blank under
+    Xvfb, so the view is rendered off-screen by Coin and painted into its place."""
+    from PySide2 import QtGui
+
+    mw = Gui.getMainWindow()
+    path = os.path.join(SHOTS, name)
+    image = mw.grab().toImage()
+    view = Gui.ActiveDocument.ActiveView if Gui.ActiveDocument else None
+    gl = None
+    for w in mw.findChildren(QtWidgets.QWidget):
+        if w.inherits("QGLWidget") or w.inherits("QOpenGLWidget"):
+            if w.isVisible() and w.width() > 100:
+                gl = w
+    if view is not None and gl is not None:
+        tmp = path + ".view.png"
+        view.saveImage(tmp, gl.width(), gl.height(), "Current")
+        painter = QtGui.QPainter(image)
+        painter.drawImage(gl.mapTo(mw, QtCore.QPoint(0, 0)), QtGui.QImage(tmp))
+        painter.end()
+        os.unlink(tmp)
+    image.save(path)
+    step("screenshot", path=path)
+
+
+def main():
+    mw = Gui.getMainWindow()
+    mw.resize(1400, 1000)
+    mw.showNormal()
+    dock = mw.findChild(QtWidgets.QDockWidget, "Combo View")
+    if dock is not None:
+        mw.resizeDocks([dock], [470], QtCore.Qt.Horizontal)
+    Gui.activateWorkbench("CSGFitWorkbench")
+    report["workbench"] = Gui.activeWorkbench().MenuText
+    from csgfit_freecad import builder, commands
+
+    doc = App.newDocument("ImageToCSG")
+    Gui.runCommand(commands.IMAGE_TO_CSG)
+    pump(0.5)
+    panel = commands.active_panel
+    assert panel is not None, "the command did not open the panel"
+    step("panel opened")
+
+    # A bad file: the error shows in the panel.
+    panel.set_file("/nonexistent/missing.png")
+    report["bad_file_status"] = panel.status.text()
+
+    panel.set_file(IMAGE)
+    panel.pixel_size.setValue(0.5)
+    panel.alternatives.setValue(2)
+
+    # Cancel: a long fit stops promptly.
+    panel.time.setValue(30)
+    panel.quality.setCurrentText("best")
+    panel.start_fit()
+    pump(0.3)
+    t0 = time.monotonic()
+    panel.cancel_fit()
+    wait_fit(panel, 10)
+    report["cancel_seconds"] = time.monotonic() - t0
+    report["cancel_stop_reason"] = panel.result.stats.stop_reason if panel.result else None
+
+    # The real fit.
+    panel.time.setValue(3)
+    panel.quality.setCurrentText("default")
+    panel.start_fit()
+    report["fit_seconds"] = wait_fit(panel, 60)
+    report["status"] = panel.status.text()
+    report["tree_choices"] = [panel.tree_choice.itemText(i)
+                              for i in range(panel.tree_choice.count())]
+    report["preview"] = not panel.preview.pixmap().isNull()
+    report["iou"] = panel.result.stats.iou
+    pump(0.3)
+    shot("freecad_image_to_csg.png")
+
+    accepted = panel.accept()
+    pump(0.5)
+    report["accepted"] = bool(accepted)
+    groups = builder.find_groups(doc)
+    report["groups"] = [g.Label for g in groups]
+    group = groups[0]
+    report["problems"] = builder.check_tree(doc, group)
+    report["types"] = sorted({o.TypeId for o in builder.tree_objects(group)})
+    report["root_valid"] = group.CsgFitRoot.Shape.isValid()
+    report["root_volume"] = group.CsgFitRoot.Shape.Volume
+    report["dialog_closed"] = not Gui.Control.activeDialog()
+
+    # Show the tree: expand the group and the root, select a primitive so that the property
+    # editor shows its dimensions.
+    tree = mw.findChild(QtWidgets.QTreeWidget)
+    if tree is not None:
+        for label in (group.Label, group.CsgFitRoot.Label):
+            for item in tree.findItems(label, QtCore.Qt.MatchExactly | QtCore.Qt.MatchRecursive):
+                item.setExpanded(True)
+    box = next((o for o in builder.tree_objects(group) if o.TypeId == "Part::Box"), None)
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(box or group.CsgFitRoot)
+    Gui.ActiveDocument.ActiveView.viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
+    pump(0.5)
+    shot("freecad_result_tree.png")
+
+    # Export OpenSCAD through the command's code.
+    scad = os.path.join(os.path.dirname(REPORT), "gui_export.scad")
+    commands.export_scad(group, scad)
+    report["scad_bytes"] = os.path.getsize(scad)
+    report["ok"] = True
+
+
+try:
+    main()
+except Exception:
+    report["error"] = traceback.format_exc()
+finally:
+    with open(REPORT, "w") as f:
+        json.dump(report, f, indent=1)
+    sys.stdout.flush()
+    os._exit(0)

@@ -1,0 +1,62 @@
+"""GUI test of the CSG Fit workbench: FreeCAD under xvfb-run runs gui_macro.py, which drives
+"Image to CSG" through the task panel's own code on a benchmark bitmap and reports back.
+
+The workbench is installed with scripts/install_workbench.sh into a throw-away HOME, so the
+test also checks that FreeCAD finds it where the installer puts it. Screenshots go to the test's
+temporary folder, or to docs/img/ with CSGFIT_UPDATE_SCREENSHOTS=1.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+
+import pytest
+
+import fchelpers as H
+
+IMAGE = os.path.join(H.BENCH, "glyph_P.png")
+
+
+def test_image_to_csg_through_the_task_panel(tmp_path):
+    for tool in ("xvfb-run", "freecad"):
+        if not shutil.which(tool):
+            pytest.skip(f"{tool} not installed")
+    if not os.path.exists(os.path.join(H.BUILD, "python", "csgfit", "__init__.py")):
+        pytest.skip(f"csgfit module not built in {H.BUILD}/python")
+    if not os.path.exists(IMAGE):
+        pytest.skip(f"benchmark {IMAGE} not present")
+    home = tmp_path / "home"
+    home.mkdir()
+    env = dict(os.environ, HOME=str(home), XDG_DATA_HOME=str(home / ".local" / "share"),
+               XDG_CONFIG_HOME=str(home / ".config"), CSGFIT_BUILD_DIR=H.BUILD,
+               # FreeCAD's start page embeds Chromium, which refuses to run as root otherwise.
+               QTWEBENGINE_DISABLE_SANDBOX="1")
+    env.pop("XDG_RUNTIME_DIR", None)
+    subprocess.run(["bash", os.path.join(H.REPO, "scripts", "install_workbench.sh")], env=env,
+                   check=True, capture_output=True, timeout=120)
+    shots = (os.path.join(H.REPO, "docs", "img") if os.environ.get("CSGFIT_UPDATE_SCREENSHOTS")
+             else str(tmp_path))
+    os.makedirs(shots, exist_ok=True)
+    report_path = tmp_path / "report.json"
+    env.update(CSGFIT_GUI_REPORT=str(report_path), CSGFIT_GUI_IMAGE=IMAGE,
+               CSGFIT_GUI_SHOTS=shots)
+    proc = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1100x24", "freecad",
+                           os.path.join(os.path.dirname(__file__), "gui_macro.py")],
+                          env=env, capture_output=True, text=True, timeout=300)
+    assert report_path.exists(), f"FreeCAD did not run the macro:\n{proc.stdout}\n{proc.stderr}"
+    r = json.loads(report_path.read_text())
+    assert r["ok"], r.get("error")
+    assert r["workbench"] == "CSG Fit"
+    assert "missing.png" in r["bad_file_status"]  # the error shows in the panel
+    assert r["cancel_seconds"] < 1.0 and r["cancel_stop_reason"] == "cancelled"
+    assert r["preview"] and r["iou"] >= 0.95
+    assert r["tree_choices"][0].startswith("Best:") and len(r["tree_choices"]) >= 2
+    assert r["accepted"] and r["dialog_closed"]
+    assert r["groups"] == ["glyph_P"]
+    assert r["problems"] == [] and r["root_valid"] and r["root_volume"] > 0
+    assert set(r["types"]) <= {"Part::Box", "Part::Cylinder", "Part::Ellipse", "Part::Extrusion",
+                               "Part::Wedge", "Part::MultiFuse", "Part::MultiCommon", "Part::Cut"}
+    assert r["scad_bytes"] > 100
+    for name in ("freecad_image_to_csg.png", "freecad_result_tree.png"):
+        assert os.path.getsize(os.path.join(shots, name)) > 10000
