@@ -22,6 +22,9 @@ struct ScadOptions {
   /// circle/ellipse trees, 96 x 80 px: 133 / 58 / 53 differing pixels for Inscribed /
   /// Circumscribed / EqualArea at $fn = 96, 1051 / 534 / 447 at $fn = 32).
   CircleFit circle_fit = CircleFit::EqualArea;
+  /// Canvas of the source image in pixels (FitResult::width/height), for the header comment and
+  /// the Customizer slider ranges; 0 = unknown.
+  int width_px = 0, height_px = 0;
 };
 
 /// Writes the tree as OpenSCAD 2021.01 source in model coordinates (pixel_size units, y up):

@@ -30,4 +30,10 @@ FitResult from_json(const std::string& text, ModelFrame* frame = nullptr);
 /// given as "points": [[x, y], [x, y], [x, y]]. Throws InputError naming the bad field and node.
 Node node_from_json(const std::string& text, double pixel_size = 1.0);
 
+/// The tree mirrored top to bottom on a canvas `height` pixels high (y -> height - y), for trees
+/// written in image coordinates (y down). The benchmark files part_*.gt.json are such trees
+/// (measured: render(flip_y(node_from_json(gt), 128), 128, 128) equals the benchmark PNG
+/// pixel for pixel); eye_in_diamond.gt.json is symmetric, so either reading works.
+Node flip_y(const Node& tree, double height);
+
 }  // namespace csgfit

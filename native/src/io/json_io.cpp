@@ -15,6 +15,8 @@ namespace csgfit {
 namespace {
 
 using nlohmann::json;
+// Written documents keep the schema's key order (schema first, type before coordinates).
+using ojson = nlohmann::ordered_json;
 
 constexpr const char* kSchema = "csgfit/1";
 constexpr double kPi = 3.14159265358979323846;
@@ -34,17 +36,17 @@ double finite_or_throw(double v, const std::string& where, const char* field) {
 
 // ---- writing -----------------------------------------------------------------------------
 
-json node_to_json(const Node& n, double s, const std::string& where) {
+ojson node_to_json(const Node& n, double s, const std::string& where) {
   if (!n.is_leaf()) {
-    json children = json::array();
+    ojson children = ojson::array();
     for (std::size_t i = 0; i < n.children.size(); ++i)
       children.push_back(
           node_to_json(n.children[i], s, where + ".children[" + std::to_string(i) + "]"));
-    return json{{"op", std::string(to_string(n.kind))}, {"children", std::move(children)}};
+    return ojson{{"op", std::string(to_string(n.kind))}, {"children", std::move(children)}};
   }
   const Primitive& p = n.primitive;
   const std::string at = where + " (" + std::string(to_string(p.kind)) + ")";
-  json j;
+  ojson j;
   j["type"] = std::string(to_string(p.kind));
   j["cx"] = finite_or_throw(p.cx * s, at, "cx");
   j["cy"] = finite_or_throw(p.cy * s, at, "cy");
@@ -73,10 +75,10 @@ json node_to_json(const Node& n, double s, const std::string& where) {
 }
 
 // JSON has no NaN or infinity: such a statistic is written as null (and read back as 0).
-json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+ojson number_or_null(double v) { return std::isfinite(v) ? ojson(v) : ojson(nullptr); }
 
-json stats_to_json(const FitStats& st) {
-  return json{{"k", number_or_null(st.k)},
+ojson stats_to_json(const FitStats& st) {
+  return ojson{{"k", number_or_null(st.k)},
               {"score", number_or_null(st.score)},
               {"excess", st.excess},
               {"uncovered", st.uncovered},
@@ -261,27 +263,27 @@ std::string to_json(const FitResult& result, const ModelFrame& frame) {
   if (!std::isfinite(s) || !(s > 0)) throw InputError("JSON: pixel size must be a positive number");
   if (!std::isfinite(frame.thickness) || frame.thickness < 0)
     throw InputError("JSON: thickness must be a finite number >= 0");
-  json doc;
+  ojson doc;
   doc["schema"] = kSchema;
   doc["dimension"] = 2;
   doc["units"] = "mm";
-  doc["canvas"] = json{{"width_px", result.width},
+  doc["canvas"] = ojson{{"width_px", result.width},
                        {"height_px", result.height},
                        {"pixel_size", s},
                        {"thickness", frame.thickness}};
   doc["source"] = frame.source;
   doc["tree"] = node_to_json(result.tree, s, "tree");
   doc["stats"] = stats_to_json(result.stats);
-  json alts = json::array();
+  ojson alts = ojson::array();
   for (std::size_t i = 0; i < result.alternatives.size(); ++i) {
     const FitTree& a = result.alternatives[i];
     alts.push_back(
-        json{{"tree", node_to_json(a.tree, s, "alternatives[" + std::to_string(i) + "].tree")},
+        ojson{{"tree", node_to_json(a.tree, s, "alternatives[" + std::to_string(i) + "].tree")},
              {"stats", stats_to_json(a.stats)}});
   }
   doc["alternatives"] = std::move(alts);
   // Invalid UTF-8 in a file name must not abort the write; replace it.
-  return doc.dump(1, ' ', false, json::error_handler_t::replace) + "\n";
+  return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
 }
 
 static FitResult from_json_checked(const std::string& text, ModelFrame* frame) {
@@ -362,6 +364,27 @@ Node node_from_json(const std::string& text, double pixel_size) {
   if (!std::isfinite(pixel_size) || !(pixel_size > 0))
     throw InputError("JSON: pixel size must be a positive number");
   return node_from(parse(text), pixel_size, "tree", 0);
+}
+
+Node flip_y(const Node& tree, double height) {
+  if (!tree.is_leaf()) {
+    std::vector<Node> children;
+    children.reserve(tree.children.size());
+    for (const Node& c : tree.children) children.push_back(flip_y(c, height));
+    return Node::op(tree.kind, std::move(children));
+  }
+  // Mirroring turns a rotation by a into one by -a; rectangles and ellipses are symmetric about
+  // their local x axis, a triangle's mirror image is itself turned by 180 degrees with the apex
+  // on the other side.
+  Primitive p = tree.primitive;
+  p.cy = height - p.cy;
+  p.angle = -p.angle;
+  if (p.kind == PrimitiveKind::Triangle) {
+    p.angle += 180.0;
+    p.apex = -p.apex;
+  }
+  p.normalize();
+  return Node::leaf(p);
 }
 
 }  // namespace csgfit
