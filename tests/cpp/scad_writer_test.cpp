@@ -92,6 +92,9 @@ TEST(ScadWriter, ModuleNamesAreSafeIdentifiers) {
             std::string::npos);
   EXPECT_NE(to_scad(n, ModelFrame{1, 0, "/tmp/???.png"}).find("module shape()"),
             std::string::npos);
+  // A newline in the file name cannot break out of the header comment.
+  EXPECT_NE(to_scad(n, ModelFrame{1, 0, "a\ncube(9);.png"}).find("from a?cube(9);.png\n"),
+            std::string::npos);
 }
 
 TEST(ScadWriter, NestedUnionsAndSubtractedUnionsFlatten) {
