@@ -117,6 +117,8 @@ void write_result(const FitResult& result, const ModelFrame& frame, const std::s
                   int fn) {
   ScadOptions scad;
   scad.fn = fn;
+  scad.width_px = result.width;
+  scad.height_px = result.height;
   switch (output_format(out)) {
     case OutputFormat::Scad: {
       write_file_atomic(out, to_scad(result.tree, frame, scad, &result.stats));

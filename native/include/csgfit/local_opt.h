@@ -13,6 +13,8 @@ struct LocalOptOptions {
   int max_sweeps = 80;        ///< M of Table 2: passes over the primitives
   double initial_step = 2.0;  ///< first step, pixels (angles: the step that moves a tip this far)
   double min_step = 0.125;    ///< a primitive is settled when its step falls below this
+  bool move_angles = true;    ///< false: orientation and triangle apex stay as they are
+  bool move_sizes = true;     ///< false: only positions move
 };
 
 /// Pattern search on the parameters of the given leaves (all leaves when `leaf_indices` is
@@ -25,5 +27,17 @@ std::size_t optimize_leaves(TreeEvaluator& evaluator, const LocalOptOptions& opt
 /// Removes primitives whose removal costs fewer than k mismatched pixels (seed 000's pruning),
 /// one at a time, best first, then simplifies the tree. Returns the number removed.
 std::size_t prune(Node& tree, const Bitmap& target, double k);
+
+}  // namespace csgfit
+
+namespace csgfit {
+
+/// Rounds parameters to values a designer would type, where that costs (almost) nothing:
+/// ellipses with nearly equal axes become circles (if allowed), angles go to multiples of 15
+/// degrees, else whole degrees, positions and sizes to half pixels. Each change is kept only if
+/// the mismatch grows by no more than what is left of `pixel_budget` (spent as it goes).
+/// Returns the number of snapped parameters.
+std::size_t snap_to_design_values(TreeEvaluator& evaluator, PrimitiveSet allowed,
+                                  double pixel_budget);
 
 }  // namespace csgfit

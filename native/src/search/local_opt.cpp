@@ -14,16 +14,16 @@ constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 enum class Param { X, Y, W, H, Angle, Apex };
 
 // The parameters worth moving for a kind (a circle has one size and no orientation).
-int params_of(PrimitiveKind kind, Param out[6]) {
+int params_of(PrimitiveKind kind, const LocalOptOptions& o, Param out[6]) {
   int n = 0;
   out[n++] = Param::X;
   out[n++] = Param::Y;
-  out[n++] = Param::W;
+  if (o.move_sizes) out[n++] = Param::W;
   if (kind != PrimitiveKind::Circle) {
-    out[n++] = Param::H;
-    out[n++] = Param::Angle;
+    if (o.move_sizes) out[n++] = Param::H;
+    if (o.move_angles) out[n++] = Param::Angle;
   }
-  if (kind == PrimitiveKind::Triangle) out[n++] = Param::Apex;
+  if (kind == PrimitiveKind::Triangle && o.move_angles) out[n++] = Param::Apex;
   return n;
 }
 
@@ -63,7 +63,7 @@ std::size_t optimize_leaves(TreeEvaluator& ev, const LocalOptOptions& options,
       active = true;
       const std::size_t leaf = leaf_indices[li];
       Param params[6];
-      const int np = params_of(ev.leaf(leaf).kind, params);
+      const int np = params_of(ev.leaf(leaf).kind, options, params);
       bool improved = false;
       for (int pi = 0; pi < np; ++pi) {
         for (double dir : {1.0, -1.0}) {
@@ -134,6 +134,80 @@ std::size_t prune(Node& tree, const Bitmap& target, double k) {
     ++removed;
   }
   return removed;
+}
+
+}  // namespace csgfit
+
+namespace csgfit {
+
+std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, double pixel_budget) {
+  std::size_t snapped = 0;
+  double budget = pixel_budget;
+  // Keeps `trial` (after re-fitting what it leaves free) if that costs at most the budget left.
+  LocalOptOptions refit;
+  refit.max_sweeps = 20;
+  refit.initial_step = 0.5;
+  refit.min_step = 0.0625;
+  auto attempt = [&](std::size_t leaf, const Primitive& trial, bool angle_fixed, bool size_fixed) {
+    if (trial == ev.leaf(leaf)) return false;
+    const Primitive original = ev.leaf(leaf);
+    const double before = static_cast<double>(ev.mismatch().total());
+    ev.leaf(leaf) = trial;
+    ev.update_leaf(leaf);
+    refit.move_angles = !angle_fixed;
+    refit.move_sizes = !size_fixed;
+    if (angle_fixed || size_fixed) optimize_leaves(ev, refit, {leaf});
+    const double after = static_cast<double>(ev.mismatch().total());
+    if (after - before > budget) {
+      ev.leaf(leaf) = original;
+      ev.update_leaf(leaf);
+      return false;
+    }
+    budget -= std::max(0.0, after - before);
+    ++snapped;
+    return true;
+  };
+  auto round_to = [](double v, double step) { return std::round(v / step) * step; };
+  for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+    const Primitive p = ev.leaf(i);
+    if (p.kind == PrimitiveKind::Ellipse && allowed.has(PrimitiveKind::Circle) &&
+        std::fabs(p.w - p.h) < 0.1 * std::max(p.w, p.h)) {
+      attempt(i, Primitive::circle(p.cx, p.cy, 0.25 * (p.w + p.h)), true, false);
+    }
+    if (ev.leaf(i).kind != PrimitiveKind::Circle) {
+      Primitive q = ev.leaf(i);
+      q.angle = round_to(q.angle, 15.0);
+      if (!attempt(i, q, true, false)) {
+        q = ev.leaf(i);
+        q.angle = round_to(q.angle, 1.0);
+        attempt(i, q, true, false);
+      }
+    }
+    if (ev.leaf(i).kind == PrimitiveKind::Triangle) {
+      Primitive q = ev.leaf(i);
+      // Seed 003's isosceles (apex 0) and right-angled (apex +-1) triangles, else a tidy ratio.
+      q.apex = round_to(q.apex, 1.0);
+      if (!attempt(i, q, true, false)) {
+        q = ev.leaf(i);
+        q.apex = round_to(q.apex, 0.05);
+        attempt(i, q, true, false);
+      }
+    }
+  }
+  // Positions and sizes only after every shape and angle had its turn at the budget.
+  for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+    for (int param = 0; param < 4; ++param) {
+      Primitive q = ev.leaf(i);
+      double* v = param == 0 ? &q.cx : param == 1 ? &q.cy : param == 2 ? &q.w : &q.h;
+      if (q.kind == PrimitiveKind::Circle && param == 3) continue;
+      *v = round_to(*v, 0.5);
+      if (q.kind == PrimitiveKind::Circle) q.h = q.w;
+      // Positions and sizes are snapped last and one at a time, with nothing re-fitted: a
+      // re-fit would move them off the grid again.
+      attempt(i, q, false, false);
+    }
+  }
+  return snapped;
 }
 
 }  // namespace csgfit
