@@ -95,6 +95,12 @@ def main():
     os._exit(0)
 
 
-# freecadcmd runs a script file with __name__ set to the file's stem, python with "__main__".
-if __name__ in ("__main__", "fcstd_writer"):
+def _run_as_script():
+    # python sets __name__ to "__main__"; freecadcmd runs a script file with __name__ set to
+    # the file's stem and sys.argv[0] set to its path. An import does neither.
+    return __name__ == "__main__" or (
+        bool(sys.argv) and os.path.realpath(sys.argv[0]) == os.path.realpath(__file__))
+
+
+if _run_as_script():
     main()

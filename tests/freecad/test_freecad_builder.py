@@ -312,11 +312,12 @@ def test_cli_writes_fcstd(tmp_path, fitted):
     cli = os.path.join(H.BUILD, "bin", "csgfit")
     if not os.path.exists(cli):
         pytest.skip(f"CLI not built at {cli}")
+    _freecadcmd()
     out = tmp_path / f"{name}.FCStd"
+    env = dict(os.environ, CSGFIT_FCSTD_WRITER=WRITER)
     proc = subprocess.run([cli, "image", os.path.join(H.BENCH, name + ".png"), "-o", str(out),
                            "--time", "1", "--pixel-size", str(PIXEL)],
-                          capture_output=True, text=True, timeout=300)
-    if proc.returncode != 0 and "fcstd" in proc.stderr.lower() and not out.exists():
-        pytest.skip(f"this CLI does not write .FCStd yet: {proc.stderr.strip()}")
+                          capture_output=True, text=True, timeout=300, env=env)
     assert proc.returncode == 0, proc.stderr
+    assert sorted(os.listdir(tmp_path)) == [out.name]
     _check_fcstd(out)
