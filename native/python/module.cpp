@@ -111,22 +111,20 @@ csgfit::ImageReadOptions read_options(int threshold, bool invert, long long max_
   return options;
 }
 
-/// Search settings per quality level. "paper" is the paper's Table 2.
+/// Search settings per quality level, the same as the CLI's --quality (and --preset paper as
+/// quality "paper"). If the CLI's values change, change these too (native/cli/main.cpp).
 csgfit::SearchParams search_params(const std::string& quality) {
+  if (quality == "paper") return csgfit::SearchParams::paper();
   csgfit::SearchParams params;
   if (quality == "default") return params;
-  if (quality == "paper") return csgfit::SearchParams::paper();
   if (quality == "fast") {
-    params.population = 12;
-    params.max_stale = params.max_stale / 3;
-    params.local_iterations = params.local_iterations / 2;
+    params.population = 8;
+    params.max_stale = 1500;
     return params;
   }
   if (quality == "best") {
-    params.population = params.population * 2;
-    params.max_stale = params.max_stale * 3;
-    params.max_trees = params.max_trees * 5;
-    params.local_iterations = params.local_iterations * 2;
+    params.population = 48;
+    params.max_stale = 20000;
     return params;
   }
   throw csgfit::InputError("unknown quality '" + quality +
