@@ -94,13 +94,12 @@ std::string alternative_path(const std::string& out, std::size_t i) {
 
 // .FCStd goes through FreeCAD's own Python API, headless.
 void write_fcstd(const std::string& json_text, const std::string& out) {
+  // The workbench's writer script, from the source tree this binary was built from, unless
+  // CSGFIT_FCSTD_WRITER names another copy.
   const char* env = std::getenv("CSGFIT_FCSTD_WRITER");
-  std::string writer = env ? env : "";
-  if (writer.empty()) {
-    for (const fs::path& cand :
-         {fs::path(CSGFIT_SOURCE_DIR) / "freecad_workbench" / "fcstd_writer.py"})
-      if (fs::exists(cand)) writer = cand.string();
-  }
+  const std::string writer =
+      env ? std::string(env)
+          : (fs::path(CSGFIT_SOURCE_DIR) / "freecad_workbench" / "csgfit_freecad" / "fcstd_writer.py").string();
   if (writer.empty() || !fs::exists(writer))
     throw InputError("cannot write .FCStd: the FreeCAD writer script was not found (set CSGFIT_FCSTD_WRITER)");
   const fs::path tmp = fs::temp_directory_path() / ("csgfit-" + std::to_string(getpid()) + ".json");
