@@ -145,3 +145,21 @@ TEST(Fit, TimeBudgetIsRespected) {
   // Generous: only that it stops, not how fast the machine is.
   EXPECT_LT(r.stats.seconds, 5.0);
 }
+
+TEST(Fit, NoPixelCentreLiesOnAPrimitiveBoundary) {
+  // Otherwise OpenSCAD or FreeCAD could draw a pixel the solver counted, or drop one.
+  Bitmap target(64, 48);
+  for (int r = 10; r < 40; ++r) target.set_span(r, 8, 50);  // edges on pixel boundaries
+  const FitResult res = fit_bitmap(target, quick());
+  for (const Primitive* p : leaves(res.tree)) {
+    Bitmap exact(64, 48), nudged(64, 48);
+    rasterize(*p, exact);
+    for (double d : {-2e-4, 2e-4}) {
+      Primitive q = *p;
+      q.w += d;
+      q.h += d;
+      rasterize(q, nudged);
+      EXPECT_EQ(exact, nudged) << to_string(p->kind) << " cx " << p->cx << " w " << p->w;
+    }
+  }
+}

@@ -41,3 +41,12 @@ std::size_t snap_to_design_values(TreeEvaluator& evaluator, PrimitiveSet allowed
                                   double pixel_budget);
 
 }  // namespace csgfit
+
+namespace csgfit {
+
+/// Moves primitive boundaries off pixel centres by a few thousandths of a pixel without changing
+/// any pixel, so that any renderer (OpenSCAD's polygons, FreeCAD's solids) agrees with the
+/// solver's raster, whose inside test includes the boundary. Returns the number moved.
+std::size_t untie(TreeEvaluator& evaluator);
+
+}  // namespace csgfit

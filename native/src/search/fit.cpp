@@ -484,6 +484,10 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
     // Snapping may cost a little score; it is kept when the tree is otherwise no worse.
     if (polished.score <= best.score + snap_budget) best = polished;
   }
+  {
+    TreeEvaluator ev(target, best.tree);
+    untie(ev);
+  }
 
   FitResult result;
   result.width = target.width();

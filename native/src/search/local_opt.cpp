@@ -140,6 +140,28 @@ std::size_t prune(Node& tree, const Bitmap& target, double k) {
 
 namespace csgfit {
 
+namespace {
+
+// Whether no pixel centre lies on p's boundary. Round numbers put edges exactly on pixel
+// centres (a 2-pixel-wide square centred on a half pixel), where our closed inside test and
+// OpenSCAD's polygon rasterisation may disagree; such a snap is not worth keeping.
+bool free_of_ties(const Primitive& p, const Bitmap& raster) {
+  constexpr double kEps = 1e-3;
+  Primitive shrunk = p;
+  shrunk.w -= 2 * kEps;
+  shrunk.h -= 2 * kEps;
+  Bitmap inner(raster.width(), raster.height());
+  rasterize(shrunk, inner);
+  if (inner != raster) return false;
+  Primitive grown = p;
+  grown.w += 2 * kEps;
+  grown.h += 2 * kEps;
+  rasterize(grown, inner);
+  return inner == raster;
+}
+
+}  // namespace
+
 std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, double pixel_budget) {
   std::size_t snapped = 0;
   double budget = pixel_budget;
@@ -158,7 +180,7 @@ std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, doubl
     refit.move_sizes = !size_fixed;
     if (angle_fixed || size_fixed) optimize_leaves(ev, refit, {leaf});
     const double after = static_cast<double>(ev.mismatch().total());
-    if (after - before > budget) {
+    if (after - before > budget || !free_of_ties(ev.leaf(leaf), ev.leaf_mask(leaf))) {
       ev.leaf(leaf) = original;
       ev.update_leaf(leaf);
       return false;
@@ -196,6 +218,23 @@ std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, doubl
   }
   // Positions and sizes only after every shape and angle had its turn at the budget.
   for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+    // An axis-aligned rectangle is best dimensioned with its edges on pixel boundaries: round
+    // numbers in the drawing, and no pixel centre on an edge.
+    const Primitive r = ev.leaf(i);
+    if (r.kind == PrimitiveKind::Rectangle && std::fmod(r.angle, 90.0) == 0) {
+      const bool turned = std::fmod(r.angle, 180.0) != 0;
+      const double hx = 0.5 * (turned ? r.h : r.w), hy = 0.5 * (turned ? r.w : r.h);
+      const double x0 = std::round(r.cx - hx), x1 = std::round(r.cx + hx);
+      const double y0 = std::round(r.cy - hy), y1 = std::round(r.cy + hy);
+      if (x1 > x0 && y1 > y0) {
+        Primitive q = r;
+        q.cx = 0.5 * (x0 + x1);
+        q.cy = 0.5 * (y0 + y1);
+        (turned ? q.h : q.w) = x1 - x0;
+        (turned ? q.w : q.h) = y1 - y0;
+        attempt(i, q, false, false);
+      }
+    }
     for (int param = 0; param < 4; ++param) {
       Primitive q = ev.leaf(i);
       double* v = param == 0 ? &q.cx : param == 1 ? &q.cy : param == 2 ? &q.w : &q.h;
@@ -208,6 +247,35 @@ std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, doubl
     }
   }
   return snapped;
+}
+
+}  // namespace csgfit
+
+namespace csgfit {
+
+std::size_t untie(TreeEvaluator& ev) {
+  constexpr double kNudge = 0.005;  // pixels: far above the .scad writer's rounding
+  std::size_t nudged = 0;
+  for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+    const Primitive p = ev.leaf(i);
+    if (free_of_ties(p, ev.leaf_mask(i))) continue;
+    // Growing keeps every centre that is on the boundary inside, as the solver counted it, and
+    // moves the boundary off it; shrinking is the fallback when growing would take in others.
+    for (double d : {kNudge, -kNudge}) {
+      Primitive q = p;
+      q.w += 2 * d;
+      q.h += 2 * d;
+      Bitmap raster(ev.leaf_mask(i).width(), ev.leaf_mask(i).height());
+      rasterize(q, raster);
+      if (raster == ev.leaf_mask(i) && free_of_ties(q, raster)) {
+        ev.leaf(i) = q;
+        ev.update_leaf(i);
+        ++nudged;
+        break;
+      }
+    }
+  }
+  return nudged;
 }
 
 }  // namespace csgfit
