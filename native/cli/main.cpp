@@ -1,4 +1,6 @@
 // The `csgfit` command line.
+#include <fcntl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -92,24 +94,47 @@ std::string alternative_path(const std::string& out, std::size_t i) {
       .string();
 }
 
-// .FCStd goes through FreeCAD's own Python API, headless.
+// .FCStd goes through FreeCAD's own Python API, headless: freecadcmd runs the workbench's
+// writer script, which takes its arguments from the environment (freecadcmd keeps argv).
 void write_fcstd(const std::string& json_text, const std::string& out) {
-  // The workbench's writer script, from the source tree this binary was built from, unless
-  // CSGFIT_FCSTD_WRITER names another copy.
   const char* env = std::getenv("CSGFIT_FCSTD_WRITER");
   const std::string writer =
       env ? std::string(env)
           : (fs::path(CSGFIT_SOURCE_DIR) / "freecad_workbench" / "csgfit_freecad" / "fcstd_writer.py").string();
-  if (writer.empty() || !fs::exists(writer))
-    throw InputError("cannot write .FCStd: the FreeCAD writer script was not found (set CSGFIT_FCSTD_WRITER)");
-  const fs::path tmp = fs::temp_directory_path() / ("csgfit-" + std::to_string(getpid()) + ".json");
-  write_file_atomic(tmp.string(), json_text);
-  const std::string cmd = "CSGFIT_JSON='" + tmp.string() + "' CSGFIT_FCSTD='" +
-                          fs::absolute(out).string() + "' freecadcmd '" + writer + "' > /dev/null 2>&1";
-  const int rc = std::system(cmd.c_str());
-  fs::remove(tmp);
-  if (rc != 0 || !fs::exists(out))
-    throw InputError("cannot write '" + out + "': FreeCAD (freecadcmd) failed or is not installed");
+  if (!fs::exists(writer))
+    throw InputError("cannot write .FCStd: the FreeCAD writer '" + writer +
+                     "' was not found (set CSGFIT_FCSTD_WRITER)");
+  const std::string stem = (fs::temp_directory_path() / ("csgfit-" + std::to_string(getpid()))).string();
+  const std::string json_path = stem + ".json", log_path = stem + ".log";
+  write_file_atomic(json_path, json_text);
+  const std::string out_abs = fs::absolute(out).string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    setenv("CSGFIT_JSON", json_path.c_str(), 1);
+    setenv("CSGFIT_FCSTD", out_abs.c_str(), 1);
+    const int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    const int null = open("/dev/null", O_WRONLY);
+    if (log >= 0) dup2(log, STDERR_FILENO);
+    if (null >= 0) dup2(null, STDOUT_FILENO);
+    execlp("freecadcmd", "freecadcmd", writer.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = -1;
+  if (pid > 0) waitpid(pid, &status, 0);
+  // The writer's own one-line reason, if it gave one.
+  std::string reason;
+  {
+    std::ifstream log(log_path);
+    for (std::string line; std::getline(log, line);)
+      if (line.rfind("csgfit: error:", 0) == 0) reason = line.substr(14);
+  }
+  fs::remove(json_path);
+  fs::remove(log_path);
+  if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(out)) {
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
+      throw InputError("cannot write '" + out + "': freecadcmd is not installed");
+    throw InputError("cannot write '" + out + "':" + (reason.empty() ? " FreeCAD failed" : reason));
+  }
 }
 
 void write_result(const FitResult& result, const ModelFrame& frame, const std::string& out,
@@ -130,19 +155,6 @@ void write_result(const FitResult& result, const ModelFrame& frame, const std::s
     case OutputFormat::Json: write_file_atomic(out, to_json(result, frame)); break;
     case OutputFormat::FCStd: write_fcstd(to_json(result, frame), out); break;
   }
-}
-
-SearchParams quality_params(const std::string& preset, const std::string& quality) {
-  SearchParams p = preset == "paper" ? SearchParams::paper() : SearchParams{};
-  if (preset == "paper") return p;  // the paper's Table 2 as it is
-  if (quality == "fast") {
-    p.population = 8;
-    p.max_stale = 1500;
-  } else if (quality == "best") {
-    p.population = 48;
-    p.max_stale = 20000;
-  }
-  return p;
 }
 
 }  // namespace
@@ -248,7 +260,7 @@ int main(int argc, char** argv) {
     options.threads = threads;
     options.seed = seed;
     options.alternatives = alternatives;
-    options.search = quality_params(preset, quality);
+    options.search = SearchParams::for_quality(preset == "paper" ? preset : quality);
 
     ImageReadOptions read;
     read.threshold = threshold;

@@ -111,24 +111,13 @@ csgfit::ImageReadOptions read_options(int threshold, bool invert, long long max_
   return options;
 }
 
-/// Search settings per quality level, the same as the CLI's --quality (and --preset paper as
-/// quality "paper"). If the CLI's values change, change these too (native/cli/main.cpp).
+/// Search settings per quality level (fast, default, best, paper), as the CLI's.
 csgfit::SearchParams search_params(const std::string& quality) {
-  if (quality == "paper") return csgfit::SearchParams::paper();
-  csgfit::SearchParams params;
-  if (quality == "default") return params;
-  if (quality == "fast") {
-    params.population = 8;
-    params.max_stale = 1500;
-    return params;
+  try {
+    return csgfit::SearchParams::for_quality(quality);
+  } catch (const std::invalid_argument& e) {
+    throw csgfit::InputError(e.what());
   }
-  if (quality == "best") {
-    params.population = 48;
-    params.max_stale = 20000;
-    return params;
-  }
-  throw csgfit::InputError("unknown quality '" + quality +
-                           "' (expected fast, default, best or paper)");
 }
 
 csgfit::FitOptions fit_options(double k, const std::string& primitives, double time_limit,

@@ -31,6 +31,9 @@ struct SearchParams {
   bool residual_targeting = true;       ///< ADD at maxima of the residual's distance map
 
   static SearchParams paper();
+  /// Named settings shared by the CLI (--quality, --preset) and the Python module: "fast",
+  /// "default", "best", or "paper" (Table 2 as it is). Throws std::invalid_argument otherwise.
+  static SearchParams for_quality(const std::string& name);
 };
 
 /// Everything a fit takes besides the bitmap.

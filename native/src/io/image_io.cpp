@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <utility>
 #include <random>
 #include <stdexcept>
 
@@ -136,11 +137,77 @@ bool is_bmp(const std::vector<std::uint8_t>& d) {
 }
 
 // stb decodes a JPEG, BMP or TGA whose pixel data is cut short without complaint, filling the
-// rest with zeros: black, i.e. shape. These checks catch that before decoding.
+// rest with zeros: black, i.e. shape. These checks catch that (and a few inputs known to crash
+// this stb version) before decoding.
+
+std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
+  static const std::array<std::uint32_t, 256> table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
+  return ~crc;
+}
+
+// Walks the PNG chunks: all must fit in the file, critical chunks (IHDR, PLTE, IDAT, IEND)
+// must have a correct CRC (stb checks none, so a flipped bit could otherwise pass as pixels),
+// and IEND must be there (a cut file). Empty IDAT chunks, which are legal but make this stb
+// version memcpy from a null pointer, are dropped into `cleaned` (left empty when there are
+// none, to avoid a copy).
+bool png_is_complete(const std::vector<std::uint8_t>& d, std::vector<std::uint8_t>* cleaned) {
+  const std::size_t n = d.size();
+  std::size_t pos = 8;
+  std::vector<std::pair<std::size_t, std::size_t>> empty_idat;  // [begin, end) to drop
+  for (;;) {
+    if (n - pos < 12) return false;
+    const std::size_t length = be32(&d[pos]);
+    if (length > n - pos - 12) return false;
+    const std::uint8_t* type = &d[pos + 4];
+    const bool critical = (type[0] & 0x20) == 0;
+    if (critical && crc32(type, length + 4) != be32(&d[pos + 8 + length])) return false;
+    const std::size_t next = pos + 12 + length;
+    if (std::memcmp(type, "IEND", 4) == 0) break;
+    if (length == 0 && std::memcmp(type, "IDAT", 4) == 0) empty_idat.emplace_back(pos, next);
+    pos = next;
+  }
+  cleaned->clear();
+  if (!empty_idat.empty()) {
+    std::size_t from = 0;
+    for (const auto& [begin, end] : empty_idat) {
+      cleaned->insert(cleaned->end(), d.begin() + static_cast<std::ptrdiff_t>(from),
+                      d.begin() + static_cast<std::ptrdiff_t>(begin));
+      from = end;
+    }
+    cleaned->insert(cleaned->end(), d.begin() + static_cast<std::ptrdiff_t>(from), d.end());
+  }
+  return true;
+}
+
+// Huffman tables (DHT) whose code counts add up to more than 256 symbols make this stb version
+// write past its tables (CVE-2021-37789), so they are refused here first.
+bool jpeg_dht_is_valid(const std::uint8_t* segment, std::size_t length) {
+  std::size_t pos = 0;
+  while (pos < length) {
+    if (length - pos < 17) return false;
+    const std::uint8_t table = segment[pos];
+    if ((table >> 4) > 1 || (table & 15) > 3) return false;
+    std::size_t symbols = 0;
+    for (std::size_t i = 1; i <= 16; ++i) symbols += segment[pos + i];
+    if (symbols > 256 || length - pos - 17 < symbols) return false;
+    pos += 17 + symbols;
+  }
+  return true;
+}
 
 // A complete JPEG ends its last scan with an EOI marker. Segments are skipped by their length
 // so that an EOI inside an embedded thumbnail (APP1) does not count.
-bool jpeg_is_complete(const std::vector<std::uint8_t>& d) {
+bool jpeg_is_complete_and_safe(const std::vector<std::uint8_t>& d) {
   const std::size_t n = d.size();
   std::size_t pos = 2;
   for (;;) {
@@ -154,6 +221,7 @@ bool jpeg_is_complete(const std::vector<std::uint8_t>& d) {
     if (pos + 2 > n) return false;
     const std::size_t length = (std::size_t{d[pos]} << 8) | d[pos + 1];
     if (length < 2 || pos + length > n) return false;
+    if (marker == 0xC4 && !jpeg_dht_is_valid(&d[pos + 2], length - 2)) return false;
     pos += length;
   }
 }
@@ -493,7 +561,9 @@ GreyImage read_image(const std::string& path, const ImageReadOptions& options) {
            " is still over the limit of " + std::to_string(limit) + " pixels");
     }
   }
-  if (width > INT_MAX || height > INT_MAX) fail_not_an_image(path);  // unreachable with sane limits
+  if (width > INT_MAX || height > INT_MAX) {  // only with an absurd --max-pixels
+    fail(quoted(path) + " is " + size_text(width, height) + ", too large to decode");
+  }
 
   if (format == Format::kNetpbm) {
     std::vector<std::uint8_t> raster;
@@ -509,22 +579,26 @@ GreyImage read_image(const std::string& path, const ImageReadOptions& options) {
     return to_grey_image(decoded, static_cast<int>(out_width), static_cast<int>(out_height));
   }
 
-  if ((format == Format::kJpeg && !jpeg_is_complete(file)) ||
+  std::vector<std::uint8_t> cleaned_png;
+  if ((format == Format::kPng && !png_is_complete(file, &cleaned_png)) ||
+      (format == Format::kJpeg && !jpeg_is_complete_and_safe(file)) ||
       (format == Format::kBmp && !bmp_is_complete(file)) ||
       (format == Format::kTga && !tga_is_complete(file))) {
     fail_not_an_image(path);
   }
+  const std::uint8_t* bytes = cleaned_png.empty() ? file.data() : cleaned_png.data();
+  const int byte_count = cleaned_png.empty() ? file_size : static_cast<int>(cleaned_png.size());
 
   DecodedPixels decoded;
   int w = 0;
   int h = 0;
   int channels = 0;
   std::unique_ptr<void, StbFree> buffer;
-  if (stbi_is_16_bit_from_memory(file.data(), file_size)) {
-    buffer.reset(stbi_load_16_from_memory(file.data(), file_size, &w, &h, &channels, 0));
+  if (stbi_is_16_bit_from_memory(bytes, byte_count)) {
+    buffer.reset(stbi_load_16_from_memory(bytes, byte_count, &w, &h, &channels, 0));
     decoded.sixteen_bit = true;
   } else {
-    buffer.reset(stbi_load_from_memory(file.data(), file_size, &w, &h, &channels, 0));
+    buffer.reset(stbi_load_from_memory(bytes, byte_count, &w, &h, &channels, 0));
   }
   if (!buffer) {
     const char* reason = stbi_failure_reason();

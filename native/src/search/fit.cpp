@@ -38,6 +38,23 @@ SearchParams SearchParams::paper() {
   return p;
 }
 
+SearchParams SearchParams::for_quality(const std::string& name) {
+  if (name == "paper") return paper();
+  SearchParams p;
+  if (name == "default") return p;
+  if (name == "fast") {
+    p.population = 8;
+    p.max_stale = 1500;
+    return p;
+  }
+  if (name == "best") {
+    p.population = 48;
+    p.max_stale = 20000;
+    return p;
+  }
+  throw std::invalid_argument("unknown quality '" + name + "' (expected fast, default, best or paper)");
+}
+
 double default_k(int width, int height) {
   return 25.0 * static_cast<double>(width) * static_cast<double>(height) / (128.0 * 128.0);
 }
