@@ -284,9 +284,9 @@ int main(int argc, char** argv) {
     if (!preview.empty()) write_preview_png(preview, target, fitted, target.width() < 256 ? 4 : 1);
     if (!raster.empty()) write_bitmap_png(raster, fitted);
     if (!quiet) {
-      std::fprintf(stderr, "csgfit: IoU %.4f, %zu primitives, %zu evaluations, %.2f s (%s)\n",
-                   result.stats.iou, result.stats.primitives, result.stats.evaluations,
-                   result.stats.seconds, result.stats.stop_reason.c_str());
+      std::fprintf(stderr, "csgfit: IoU %.4f, %zu primitives, %zu trees, %zu evaluations, %.2f s (%s)\n",
+                   result.stats.iou, result.stats.primitives, result.stats.trees,
+                   result.stats.evaluations, result.stats.seconds, result.stats.stop_reason.c_str());
     }
     return 0;
   } catch (const InputError& e) {
