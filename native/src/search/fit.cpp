@@ -450,11 +450,24 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
       p.evaluations = total_evals;
       if (!progress(p)) stop_now = true;
     }
-    if (cancel && cancel->load()) { stop_reason = "cancelled"; break; }
-    if (stop_now) { stop_reason = (cancel && cancel->load()) ? "cancelled" : (elapsed() >= options.time_limit ? "time" : "cancelled"); break; }
-    if (elapsed() >= options.time_limit) { stop_reason = "time"; break; }
-    if (trees >= static_cast<std::size_t>(pb.params.max_trees)) { stop_reason = "max-trees"; break; }
-    if (stale >= static_cast<std::size_t>(pb.params.max_stale)) { stop_reason = "converged"; break; }
+    // stop_now without a cancel flag or an expired clock means the progress callback said stop.
+    const bool cancelled = (cancel && cancel->load()) || (stop_now && elapsed() < options.time_limit);
+    if (cancelled) {
+      stop_reason = "cancelled";
+      break;
+    }
+    if (stop_now || elapsed() >= options.time_limit) {
+      stop_reason = "time";
+      break;
+    }
+    if (trees >= static_cast<std::size_t>(pb.params.max_trees)) {
+      stop_reason = "max-trees";
+      break;
+    }
+    if (stale >= static_cast<std::size_t>(pb.params.max_stale)) {
+      stop_reason = "converged";
+      break;
+    }
     // Migration every fourth generation: each island receives its neighbour's best.
     if (islands > 1 && gen % 4 == 3) {
       std::vector<Candidate> bests;
@@ -472,7 +485,6 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
     for (const Candidate& c : isle.population) remember(c);
     if (isle.best().score < best.score) best = isle.best();
     evaluations += isle.evaluations;
-    trees = std::max(trees, trees);
   }
   std::size_t all_trees = 0;
   for (const Island& isle : isles) all_trees += isle.trees;
