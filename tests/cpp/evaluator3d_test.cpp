@@ -203,3 +203,63 @@ TEST(Tree3D, SignedDistanceComposition) {
   EXPECT_EQ(d.node_count(), 3u);
   EXPECT_EQ(d.depth(), 2u);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Local optimiser and pruning (local_opt3d.h)
+
+#include "csgfit/local_opt3d.h"
+
+TEST(LocalOpt3D, RecoversAPerturbedBoxMinusCylinder) {
+  VoxelGrid frame(48, 48, 48, 0, 0, 0, 1.0);
+  const Primitive3D box = Primitive3D::box(24.2, 23.6, 24.4, 30, 22, 18,
+                                           Quaternion::from_euler_deg(0, 0, 12));
+  const Primitive3D cyl = Primitive3D::cylinder(26.3, 22.8, 24.1, 6.5, 26,
+                                                Quaternion::from_euler_deg(8, 0, 0));
+  const Node3D truth = Node3D::op(NodeKind::Difference, {Node3D::leaf(box), Node3D::leaf(cyl)});
+  const VoxelGrid target = render(truth, frame);
+  // Each parameter off by one to two voxels, the orientations by a few degrees.
+  Primitive3D b2 = box, c2 = cyl;
+  b2.cx += 1.6, b2.cy -= 1.2, b2.cz += 0.9;
+  b2.dims[0] -= 2.5, b2.dims[1] += 1.8, b2.dims[2] -= 1.5;
+  b2.rotation = Quaternion::from_euler_deg(3, -2, 17);
+  c2.cx -= 1.4, c2.cy += 1.1, c2.cz -= 1.0;
+  c2.dims[0] += 1.5, c2.dims[2] -= 3;
+  c2.rotation = Quaternion::from_euler_deg(2, 4, 0);
+  c2.normalize();
+  Node3D tree = Node3D::op(NodeKind::Difference, {Node3D::leaf(b2), Node3D::leaf(c2)});
+  TreeEvaluator3D ev(target, tree);
+  const std::size_t before = ev.mismatch().total();
+  const std::size_t moves = optimize_leaves(ev, LocalOptOptions3D{});
+  const std::size_t after = ev.mismatch().total();
+  std::printf("local opt 3D: mismatch %zu -> %zu voxels of %zu (%zu moves, %zu evaluations)\n",
+              before, after, target.count(), moves, ev.evaluations());
+  EXPECT_GT(moves, 0u);
+  EXPECT_LT(after, before / 8);
+  EXPECT_LT(static_cast<double>(after), 0.01 * static_cast<double>(target.count()));
+  // The parameters are back to within a voxel.
+  const Primitive3D& rb = ev.leaf(0);
+  const Primitive3D& rc = ev.leaf(1);
+  EXPECT_NEAR(rb.cx, box.cx, 1.0);
+  EXPECT_NEAR(rb.cy, box.cy, 1.0);
+  EXPECT_NEAR(rb.cz, box.cz, 1.0);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(rb.dims[i], box.dims[i], 1.0) << i;
+  EXPECT_NEAR(rc.dims[0], cyl.dims[0], 0.75);
+  EXPECT_NEAR(rb.rotation.euler_deg()[2], 12, 3);
+  // The incremental state is the full evaluation.
+  EXPECT_EQ(ev.result(), render(tree, frame));
+}
+
+TEST(LocalOpt3D, PruneDropsWhatDoesNotPay) {
+  VoxelGrid frame(40, 40, 40, 0, 0, 0, 1.0);
+  const Primitive3D big = Primitive3D::box(20, 20, 20, 24, 24, 24);
+  const Node3D truth = Node3D::leaf(big);
+  const VoxelGrid target = render(truth, frame);
+  // A useless speck inside the box and a small sphere hanging out of it.
+  Node3D tree = Node3D::op(NodeKind::Union, {Node3D::leaf(big),
+                                             Node3D::leaf(Primitive3D::sphere(20, 20, 20, 2)),
+                                             Node3D::leaf(Primitive3D::sphere(33, 20, 20, 2))});
+  const std::size_t removed = prune(tree, target, 50);
+  EXPECT_EQ(removed, 2u);
+  EXPECT_TRUE(tree.is_leaf());
+  EXPECT_EQ(tree.primitive, big);
+}
