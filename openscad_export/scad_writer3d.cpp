@@ -1,0 +1,420 @@
+#include "scad_writer3d.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "csgfit/error.h"
+
+namespace csgfit {
+
+namespace {
+
+// Values beyond this are not a model any more, and fixed decimals would print hundreds of
+// digits.
+constexpr double kMaxMagnitude = 1e9;
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+// OpenSCAD keywords and built-ins, plus the helpers this file defines: the model's module must
+// not shadow any of them.
+const char* const kReserved[] = {
+    "module", "function", "if", "else", "for", "let", "each", "true", "false", "undef",
+    "include", "use", "assert", "echo", "intersection_for", "children", "cube", "sphere",
+    "cylinder", "polyhedron", "square", "circle", "polygon", "text", "import", "surface",
+    "projection", "linear_extrude", "rotate_extrude", "translate", "rotate", "scale", "mirror",
+    "multmatrix", "color", "offset", "minkowski", "hull", "resize", "union", "difference",
+    "intersection", "render", "group", "parent_module", "fn_r", "fn_sr", "fn_sphere_volume",
+    "csg_torus", "segments"};
+
+std::string fmt(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s(buf);
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+double slider_step(double extent) {
+  if (!(extent > 0)) return 0.01;
+  return std::pow(10.0, std::floor(std::log10(extent)) - 3);
+}
+
+double nice_ceiling(double v) {
+  if (!(v > 0)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(v)));
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * p >= v) return m * p;
+  return 10 * p;
+}
+
+std::string sanitize_identifier(const std::string& source) {
+  std::string stem = source;
+  const std::size_t slash = stem.find_last_of("/\\");
+  if (slash != std::string::npos) stem = stem.substr(slash + 1);
+  const std::size_t dot = stem.find('.');
+  if (dot != std::string::npos) stem = stem.substr(0, dot);
+  std::string id;
+  for (char ch : stem) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (std::isalnum(c))
+      id += static_cast<char>(std::tolower(c));
+    else if (!id.empty() && id.back() != '_')
+      id += '_';
+  }
+  while (!id.empty() && id.back() == '_') id.pop_back();
+  if (id.empty()) return "model";
+  if (std::isdigit(static_cast<unsigned char>(id[0]))) id = "model_" + id;
+  for (const char* r : kReserved)
+    if (id == r) return id + "_model";
+  return id;
+}
+
+// Control characters would end a // comment and inject code.
+std::string comment_safe(std::string s) {
+  for (char& ch : s)
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ch = '?';
+  return s;
+}
+
+bool is_empty(const Node3D& n) {
+  switch (n.kind) {
+    case NodeKind::Primitive: return false;
+    case NodeKind::Union: return std::all_of(n.children.begin(), n.children.end(), is_empty);
+    case NodeKind::Difference: return n.children.empty() || is_empty(n.children.front());
+    case NodeKind::Intersection:
+      return n.children.empty() || std::any_of(n.children.begin(), n.children.end(), is_empty);
+  }
+  return true;
+}
+
+void collect_flat(const Node3D& n, NodeKind kind, std::vector<const Node3D*>& out) {
+  for (const Node3D& c : n.children) {
+    if (is_empty(c) && kind == NodeKind::Union) continue;
+    if (c.kind == kind)
+      collect_flat(c, kind, out);
+    else
+      out.push_back(&c);
+  }
+}
+
+struct Var {
+  std::string name, value, range;
+};
+struct Tab {
+  std::string title;
+  std::vector<Var> vars;
+};
+
+class Writer {
+ public:
+  Writer(int decimals, double extent) : decimals_(decimals), extent_(extent) {}
+
+  std::string geometry(const Node3D& n, int indent) {
+    const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
+    switch (n.kind) {
+      case NodeKind::Primitive: return pad + primitive(n.primitive) + "\n";
+      case NodeKind::Union:
+      case NodeKind::Intersection: {
+        std::vector<const Node3D*> kids;
+        collect_flat(n, n.kind, kids);
+        if (kids.size() == 1) return geometry(*kids.front(), indent);
+        return block(n.kind == NodeKind::Union ? "union()" : "intersection()", kids, indent);
+      }
+      case NodeKind::Difference: {
+        std::vector<const Node3D*> kids{&n.children.front()};
+        for (std::size_t i = 1; i < n.children.size(); ++i) {
+          const Node3D& c = n.children[i];
+          if (is_empty(c)) continue;
+          if (c.kind == NodeKind::Union)  // a - (b + c) = a - b - c reads better inlined
+            collect_flat(c, NodeKind::Union, kids);
+          else
+            kids.push_back(&c);
+        }
+        if (kids.size() == 1) return geometry(*kids.front(), indent);
+        return block("difference()", kids, indent);
+      }
+    }
+    return {};
+  }
+
+  const std::vector<Tab>& tabs() const { return tabs_; }
+  bool uses_spheres() const { return spheres_; }
+  bool uses_circles() const { return circles_; }
+  bool uses_tori() const { return tori_; }
+
+ private:
+  std::string block(const std::string& head, const std::vector<const Node3D*>& kids,
+                    int indent) {
+    const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
+    std::string out = pad + head + " {\n";
+    for (const Node3D* k : kids) out += geometry(*k, indent + 1);
+    out += pad + "}\n";
+    return out;
+  }
+
+  static double check(double v, const char* what, const std::string& prim) {
+    if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
+      throw InputError("cannot write .scad: " + prim + " has a non-finite or out-of-range " +
+                       what);
+    return v;
+  }
+  static double check_size(double v, const char* what, const std::string& prim) {
+    check(v, what, prim);
+    if (!(v > 0)) throw InputError("cannot write .scad: " + prim + " has a " + what + " <= 0");
+    return v;
+  }
+
+  double step() const { return slider_step(extent_); }
+  std::string length_range(double v) const {
+    return "[0:" + fmt(step(), 12) + ":" + fmt(nice_ceiling(std::max(extent_, std::fabs(v))), 12) +
+           "]";
+  }
+  std::string position_range(double v) const {
+    const double hi = nice_ceiling(std::max(extent_, std::fabs(v)));
+    return "[" + fmt(-hi, 12) + ":" + fmt(step(), 12) + ":" + fmt(hi, 12) + "]";
+  }
+
+  std::string add(Tab& tab, const std::string& prefix, const char* field, double v,
+                  const std::string& range, int decimals) {
+    const std::string name = prefix + "_" + field;
+    tab.vars.push_back({name, fmt(v, decimals), range});
+    return name;
+  }
+  std::string length(Tab& tab, const std::string& prefix, const char* field, double v) {
+    return add(tab, prefix, field, v, length_range(v), decimals_);
+  }
+
+  // "rotate([a, b, c]) " with a variable per non-zero angle, or "" for no rotation.
+  std::string rotation(Tab& tab, const std::string& prefix, const Primitive3D& p,
+                       const std::string& what) {
+    Vec3 e;
+    if (is_axially_symmetric(p.kind)) {
+      // Only the axis matters: rotate([a, b, 0]) takes local z to the axis (x, y, z) when
+      // a = -asin(y), b = atan2(x, z).
+      const Mat3 m = p.rotation.matrix();
+      const double ax = m[0][2], ay = m[1][2], az = m[2][2];
+      e = {-std::asin(std::clamp(ay, -1.0, 1.0)) * kRadToDeg, std::atan2(ax, az) * kRadToDeg, 0};
+    } else {
+      e = p.rotation.euler_deg();
+    }
+    static const char* const names[3] = {"rot_x", "rot_y", "rot_z"};
+    std::string parts[3];
+    bool any = false;
+    for (int i = 0; i < 3; ++i) {
+      check(e[i], "rotation", what);
+      // Angles get more decimals than lengths: a degree turns a 100 mm part's end by 1.7 mm.
+      if (fmt(e[i], 6) == "0") {
+        parts[i] = "0";
+        continue;
+      }
+      any = true;
+      parts[i] = add(tab, prefix, names[i], e[i], "[-180:0.1:180]", 6);
+    }
+    if (!any) return "";
+    return "rotate([" + parts[0] + ", " + parts[1] + ", " + parts[2] + "]) ";
+  }
+
+  std::string primitive(const Primitive3D& p) {
+    ++count_;
+    const std::string num = std::to_string(count_);
+    std::string prefix, title;
+    switch (p.kind) {
+      case PrimitiveKind3D::Box: prefix = "box_", title = "Box "; break;
+      case PrimitiveKind3D::Sphere: prefix = "sphere_", title = "Sphere "; break;
+      case PrimitiveKind3D::Cylinder: prefix = "cyl_", title = "Cylinder "; break;
+      case PrimitiveKind3D::Cone: prefix = "cone_", title = "Cone "; break;
+      case PrimitiveKind3D::Ellipsoid: prefix = "ellipsoid_", title = "Ellipsoid "; break;
+      case PrimitiveKind3D::Torus: prefix = "torus_", title = "Torus "; break;
+      case PrimitiveKind3D::TriangularPrism: prefix = "prism_", title = "Prism "; break;
+    }
+    prefix += num;
+    title += num;
+    const std::string what = "primitive " + num + " (" + std::string(to_string(p.kind)) + ")";
+    Tab tab{title, {}};
+    const int d = decimals_;
+    const std::string vx = add(tab, prefix, "cx", check(p.cx, "centre x", what), position_range(p.cx), d);
+    const std::string vy = add(tab, prefix, "cy", check(p.cy, "centre y", what), position_range(p.cy), d);
+    const std::string vz = add(tab, prefix, "cz", check(p.cz, "centre z", what), position_range(p.cz), d);
+    const Vec3& s = p.dims;
+    std::string code = "translate([" + vx + ", " + vy + ", " + vz + "]) ";
+    if (p.kind != PrimitiveKind3D::Sphere) code += rotation(tab, prefix, p, what);
+    switch (p.kind) {
+      case PrimitiveKind3D::Box: {
+        const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
+        const std::string b = length(tab, prefix, "size_y", check_size(s[1], "size y", what));
+        const std::string c = length(tab, prefix, "size_z", check_size(s[2], "size z", what));
+        code += "cube([" + a + ", " + b + ", " + c + "], center = true);";
+        break;
+      }
+      case PrimitiveKind3D::Sphere: {
+        const std::string r = length(tab, prefix, "r", check_size(s[0], "radius", what));
+        code += "sphere(r = fn_sr(" + r + "));";
+        spheres_ = true;
+        break;
+      }
+      case PrimitiveKind3D::Cylinder: {
+        const std::string r = length(tab, prefix, "r", check_size(s[0], "radius", what));
+        const std::string h = length(tab, prefix, "h", check_size(s[2], "height", what));
+        code += "cylinder(h = " + h + ", r = fn_r(" + r + "), center = true);";
+        circles_ = true;
+        break;
+      }
+      case PrimitiveKind3D::Cone: {
+        check(s[0], "bottom radius", what);
+        check(s[1], "top radius", what);
+        if (s[0] < 0 || s[1] < 0 || !(std::max(s[0], s[1]) > 0))
+          throw InputError("cannot write .scad: " + what + " has a negative or zero radius");
+        const std::string r1 = length(tab, prefix, "r1", s[0]);
+        const std::string r2 = length(tab, prefix, "r2", s[1]);
+        const std::string h = length(tab, prefix, "h", check_size(s[2], "height", what));
+        code += "cylinder(h = " + h + ", r1 = fn_r(" + r1 + "), r2 = fn_r(" + r2 +
+                "), center = true);";
+        circles_ = true;
+        break;
+      }
+      case PrimitiveKind3D::Ellipsoid: {
+        const std::string a = length(tab, prefix, "rx", check_size(s[0], "x semi-axis", what));
+        const std::string b = length(tab, prefix, "ry", check_size(s[1], "y semi-axis", what));
+        const std::string c = length(tab, prefix, "rz", check_size(s[2], "z semi-axis", what));
+        code += "scale([" + a + ", " + b + ", " + c + "]) sphere(r = fn_sr(1));";
+        spheres_ = true;
+        break;
+      }
+      case PrimitiveKind3D::Torus: {
+        check_size(s[0], "major radius", what);
+        check_size(s[1], "minor radius", what);
+        if (s[1] > s[0])
+          throw InputError("cannot write .scad: " + what + " has a minor radius above its major radius");
+        const std::string big = length(tab, prefix, "major_r", s[0]);
+        const std::string small = length(tab, prefix, "minor_r", s[1]);
+        code += "csg_torus(" + big + ", " + small + ");";
+        circles_ = tori_ = true;
+        break;
+      }
+      case PrimitiveKind3D::TriangularPrism: {
+        const std::string w = length(tab, prefix, "w", check_size(s[0], "width", what));
+        const std::string h = length(tab, prefix, "h", check_size(s[1], "height", what));
+        const std::string dp = length(tab, prefix, "depth", check_size(s[2], "depth", what));
+        // The apex offset is relative to the half width: more decimals than a length.
+        const std::string ap = add(tab, prefix, "apex", check(p.apex, "apex", what), "[-4:0.01:4]", 6);
+        code += "linear_extrude(height = " + dp + ", center = true) polygon([[-" + w + " / 2, -" +
+                h + " / 2], [" + w + " / 2, -" + h + " / 2], [" + ap + " * " + w + " / 2, " + h +
+                " / 2]]);";
+        break;
+      }
+    }
+    tabs_.push_back(std::move(tab));
+    return code;
+  }
+
+  int decimals_;
+  double extent_;
+  int count_ = 0;
+  bool spheres_ = false, circles_ = false, tori_ = false;
+  std::vector<Tab> tabs_;
+};
+
+}  // namespace
+
+std::string to_scad(const Node3D& tree, const ScadOptions3D& options) {
+  if (options.fn < 3 || options.fn > 10000)
+    throw InputError("cannot write .scad: $fn must be between 3 and 10000");
+  if (tree.primitive_count() == 0 || is_empty(tree))
+    throw InputError("cannot write .scad: the tree has no primitives");
+
+  // Sliders cover the model; values keep enough decimals that rounding moves a surface by
+  // about 1e-5 of the model's size (and at least 4 decimals).
+  double extent = 0;
+  for (const Primitive3D* p : leaves(tree)) {
+    const double size = std::max({p->dims[0], p->dims[1], p->dims[2]});
+    for (double c : {p->cx, p->cy, p->cz})
+      if (std::isfinite(c) && std::isfinite(size)) extent = std::max(extent, std::fabs(c) + 2 * size);
+  }
+  const int decimals =
+      extent > 0 ? std::clamp(static_cast<int>(std::ceil(5.0 - std::log10(extent))), 4, 12) : 4;
+
+  Writer writer(decimals, extent);
+  const std::string body = writer.geometry(tree, 1);
+  const std::string module = sanitize_identifier(options.source);
+
+  std::ostringstream out;
+  out << "// Generated by csgfit";
+  if (!options.source.empty()) out << " from " << comment_safe(options.source);
+  out << "\n// Units: those of the source model (mm), z up.\n";
+  if (!options.summary.empty()) out << "// Fit: " << comment_safe(options.summary) << "\n";
+  out << "// Every dimension below is a Customizer parameter (Window > Customizer).\n\n";
+  out << "/* [Resolution] */\n";
+  out << "// Segments per full circle\n";
+  out << "segments = " << options.fn << "; // [12:1:360]\n\n";
+  for (const Tab& tab : writer.tabs()) {
+    out << "/* [" << tab.title << "] */\n";
+    for (const Var& v : tab.vars) out << v.name << " = " << v.value << "; // " << v.range << "\n";
+    out << "\n";
+  }
+  out << "/* [Hidden] */\n";
+  out << "$fn = segments;\n\n";
+  if (writer.uses_circles()) {
+    switch (options.circle_fit) {
+      case CircleFit::Inscribed:
+        out << "// Circles are $fn-gons with their vertices on the fitted circle.\n";
+        out << "function fn_r(r) = r;\n\n";
+        break;
+      case CircleFit::Circumscribed:
+        out << "// OpenSCAD puts a circle's $fn vertices on the circle; enlarging the radius by\n"
+               "// 1/cos(180/$fn) makes the polygon's edges touch the fitted circle instead.\n";
+        out << "function fn_r(r) = r / cos(180 / $fn);\n\n";
+        break;
+      case CircleFit::EqualArea:
+        out << "// OpenSCAD puts a circle's $fn vertices on the circle, so the polygon lies inside "
+               "it;\n// this radius gives the polygon the fitted circle's area instead.\n";
+        out << "function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));\n\n";
+        break;
+    }
+  }
+  if (writer.uses_spheres()) {
+    switch (options.circle_fit) {
+      case CircleFit::Inscribed:
+        out << "// Spheres are OpenSCAD's ring polyhedra with their vertices on the fitted "
+               "sphere.\n";
+        out << "function fn_sr(r) = r;\n\n";
+        break;
+      case CircleFit::Circumscribed:
+        out << "// Spheres enlarged like circles, so the ring polygons' edges touch the sphere.\n";
+        out << "function fn_sr(r) = r / cos(180 / $fn);\n\n";
+        break;
+      case CircleFit::EqualArea:
+        out << "// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with "
+               "their\n// vertices on the sphere: a stack of frusta. fn_sphere_volume is that "
+               "polyhedron's\n// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the "
+               "fitted sphere's volume.\n";
+        out << "function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :\n"
+               "  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),\n"
+               "      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))\n"
+               "  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);\n";
+        out << "function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *\n"
+               "  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);\n\n";
+        break;
+    }
+  }
+  if (writer.uses_tori()) {
+    out << "// A torus about the z axis: the circle of radius r at distance R, revolved. With\n"
+           "// equal-area fn_r, stretching the profile by fn_r(1) across the axis gives the\n"
+           "// revolved $fn-gon the torus's volume; min() keeps it off the axis when r = R.\n";
+    out << "module csg_torus(R, r)\n"
+           "  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), R / r), 1]) "
+           "circle(r = fn_r(r));\n\n";
+  }
+  out << "module " << module << "() {\n" << body << "}\n\n";
+  out << module << "();\n";
+  return out.str();
+}
+
+}  // namespace csgfit
