@@ -178,8 +178,9 @@ double largest_cubic_root(double a, double b, double c) {
   const double disc = q * q / 4 + p * p * p / 27;
   double y;
   if (disc > 0) {
-    const double sq = std::sqrt(disc);
-    y = std::cbrt(-q / 2 + sq) + std::cbrt(-q / 2 - sq);
+    // One real root: Cardano with the cancellation-free sign and u v = -p / 3 (one cbrt).
+    const double u = -std::copysign(std::cbrt(std::fabs(q) / 2 + std::sqrt(disc)), q);
+    y = u != 0 ? u - p / (3 * u) : 0.0;
   } else {
     const double rp = std::sqrt(std::max(-p / 3, 0.0));
     const double arg = rp > 0 ? std::clamp(-q / (2 * rp * rp * rp), -1.0, 1.0) : 0.0;
@@ -211,7 +212,8 @@ void quadratic_roots(double b, double c, double* out, int& n) {
 // A root pair lost to rounding near a tangent line bounds an interval far thinner than a
 // voxel.
 int torus_roots(const double* c, double lo, double hi, double* out) {
-  const double a = c[3] / c[4], b = c[2] / c[4], cc = c[1] / c[4], d = c[0] / c[4];
+  const double inv = 1.0 / c[4];
+  const double a = c[3] * inv, b = c[2] * inv, cc = c[1] * inv, d = c[0] * inv;
   const double a2 = a * a;
   const double p = b - 3 * a2 / 8;
   const double q = cc - a * b / 2 + a2 * a / 8;
@@ -235,7 +237,8 @@ int torus_roots(const double* c, double lo, double hi, double* out) {
   bool ok = true;
   for (int i = 0; i < nt; ++i) {
     double s = t[i] - a / 4;
-    for (int it = 0; it < 2; ++it) {
+    // One Newton step: the closed form is good to ~1e-8 here, one step squares that.
+    for (int it = 0; it < 1; ++it) {
       const double f = (((c[4] * s + c[3]) * s + c[2]) * s + c[1]) * s + c[0];
       const double df = ((4 * c[4] * s + 3 * c[3]) * s + 2 * c[2]) * s + c[1];
       if (df == 0) break;
