@@ -214,8 +214,10 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
     if (n == 1) ++r.boundary_edges;
     else if (n > 2) ++r.non_manifold_edges;
     else if (uses[i].forward == uses[i + 1].forward) ++r.inconsistent_edges;
-    for (std::size_t k = i + 1; k < j; ++k) {
-      const int a = find_root(parent, uses[i].triangle), b = find_root(parent, uses[k].triangle);
+    const int first_triangle = uses[i].triangle;
+    for (auto it = uses.begin() + static_cast<std::ptrdiff_t>(i) + 1;
+         it != uses.begin() + static_cast<std::ptrdiff_t>(j); ++it) {
+      const int a = find_root(parent, first_triangle), b = find_root(parent, it->triangle);
       if (a != b) parent[a] = b;
     }
     i = j;

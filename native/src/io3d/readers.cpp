@@ -15,6 +15,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <unordered_map>
@@ -476,6 +477,9 @@ TriangleMesh read_stl(const std::string& path, const std::string& d, const MeshR
   if (d.size() < 84) {
     fail(quoted(path) + " is not an STL mesh (too short for binary STL, and not ASCII STL)");
   }
+  if (!has_binary_bytes(d)) {
+    fail(quoted(path) + " is not an STL mesh (text that does not start with 'solid')");
+  }
   const std::uint64_t n = le32(reinterpret_cast<const unsigned char*>(d.data()) + 80);
   if (n > options.max_triangles) {
     fail(quoted(path) + " declares " + std::to_string(n) + " triangles, over the limit of " +
@@ -922,12 +926,27 @@ TriangleMesh read_ply(const std::string& path, const std::string& d, const MeshR
   };
   std::vector<long long> face;
   std::vector<double> values;
+  // Bad faces are reported only once the whole body has been read: data shifted by a wrong
+  // count in the header looks like garbage faces, and "truncated" is the more useful message.
+  std::string problem;
+  auto note = [&](const std::string& what) {
+    if (problem.empty()) problem = quoted(path) + ": " + what;
+  };
   auto to_index = [&](double v) -> long long {
     if (!(v == std::floor(v)) || v < 0 || v >= static_cast<double>(INT_MAX)) {
-      fail(quoted(path) + ": a face has vertex index " + std::to_string(v) +
-           " (face index out of range)");
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.17g", v);
+      note(std::string("a face has vertex index ") + buf + " (face index out of range)");
+      return -1;
     }
     return static_cast<long long>(v);
+  };
+  auto add_face = [&](unsigned long long r) {
+    if (face.size() < 3) {
+      note("face " + std::to_string(r + 1) + " has fewer than 3 vertices");
+    } else if (std::find(face.begin(), face.end(), -1) == face.end()) {
+      b.add_face(face.data(), face.size());
+    }
   };
   auto list_count = [&](double v, std::size_t item_size, std::size_t available) -> std::size_t {
     if (!(v >= 0) || v != std::floor(v)) fail(quoted(path) + ": a PLY list has a negative count");
@@ -967,8 +986,7 @@ TriangleMesh read_ply(const std::string& path, const std::string& d, const MeshR
         if (&e == vertex_el) {
           b.add_vertex(values[ix], values[iy], values[iz], "vertex " + std::to_string(r + 1));
         } else if (&e == face_el) {
-          if (face.size() < 3) fail(quoted(path) + ": face " + std::to_string(r + 1) + " has fewer than 3 vertices");
-          b.add_face(face.data(), face.size());
+          add_face(r);
         }
       }
     }
@@ -1001,7 +1019,8 @@ TriangleMesh read_ply(const std::string& path, const std::string& d, const MeshR
           }
           if (!in.has(ply_size(p.count_type))) truncated(e, r);
           const std::size_t item = ply_size(p.type);
-          const std::size_t n = list_count(in.read(p.count_type), item, in.remaining());
+          const double declared = in.read(p.count_type);  // before remaining() is taken
+          const std::size_t n = list_count(declared, item, in.remaining());
           if (n == SIZE_MAX) truncated(e, r);
           if (&e == face_el && static_cast<int>(pi) == iface) {
             for (std::size_t k = 0; k < n; ++k) face.push_back(to_index(in.read(p.type)));
@@ -1012,12 +1031,12 @@ TriangleMesh read_ply(const std::string& path, const std::string& d, const MeshR
         if (&e == vertex_el) {
           b.add_vertex(values[ix], values[iy], values[iz], "vertex " + std::to_string(r + 1));
         } else if (&e == face_el) {
-          if (face.size() < 3) fail(quoted(path) + ": face " + std::to_string(r + 1) + " has fewer than 3 vertices");
-          b.add_face(face.data(), face.size());
+          add_face(r);
         }
       }
     }
   }
+  if (!problem.empty()) fail(problem + " (truncated, or wrong element counts in the header?)");
   return b.finish(format_name, info);
 }
 

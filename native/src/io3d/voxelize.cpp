@@ -91,6 +91,94 @@ void check_mesh(const TriangleMesh& mesh) {
   }
 }
 
+// Vertex-connected pieces of a welded mesh.
+std::vector<int> piece_labels(const TriangleMesh& mesh, int* count) {
+  std::vector<int> parent(mesh.vertices.size());
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  auto root = [&parent](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& t : mesh.triangles) {
+    const int a = root(t[0]);
+    for (int k = 1; k < 3; ++k) {
+      const int b = root(t[k]);
+      if (a != b) parent[b] = a;
+    }
+  }
+  std::vector<int> label(mesh.vertices.size(), -1);
+  std::vector<int> tri_label(mesh.triangles.size());
+  *count = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    int& l = label[root(mesh.triangles[t][0])];
+    if (l < 0) l = (*count)++;
+    tri_label[t] = l;
+  }
+  return tri_label;
+}
+
+// A piece whose triangles face inward (negative volume) is a cavity if it lies inside the rest
+// of the mesh, and was authored inside out otherwise: those are flipped, so that a soup of
+// overlapping parts gives their union under the non-zero rule whichever way each part faces.
+// "Inside" is the winding number of the other pieces at a few of the piece's triangle
+// centroids. Returns the number of triangles flipped.
+std::size_t flip_inverted_pieces(TriangleMesh& mesh, double budget) {
+  int count = 0;
+  const std::vector<int> label = piece_labels(mesh, &count);
+  if (count < 2) {
+    // A single inverted piece needs no flip: the non-zero rule ignores the sign.
+    return 0;
+  }
+  std::vector<double> volume(static_cast<std::size_t>(count), 0.0);
+  std::vector<std::vector<int>> members(static_cast<std::size_t>(count));
+  const auto& o = mesh.vertices.front();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const auto& a = mesh.vertices[tri[0]];
+    const auto& b = mesh.vertices[tri[1]];
+    const auto& c = mesh.vertices[tri[2]];
+    const double ax = a[0] - o[0], ay = a[1] - o[1], az = a[2] - o[2];
+    const double bx = b[0] - o[0], by = b[1] - o[1], bz = b[2] - o[2];
+    const double cx = c[0] - o[0], cy = c[1] - o[1], cz = c[2] - o[2];
+    volume[label[t]] += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+    members[label[t]].push_back(static_cast<int>(t));
+  }
+  constexpr int kSamples = 9;
+  const double tris = static_cast<double>(mesh.triangles.size());
+  double work = 0;
+  std::size_t flipped = 0;
+  for (int p = 0; p < count; ++p) {
+    if (volume[p] >= 0) continue;
+    work += kSamples * tris;
+    if (work > budget) break;
+    const std::vector<int>& mine = members[p];
+    int inside = 0, samples = 0;
+    for (int s = 0; s < kSamples && s < static_cast<int>(mine.size()); ++s) {
+      const auto& tri = mesh.triangles[mine[mine.size() * s / kSamples]];
+      std::array<double, 3> centroid{};
+      for (int k = 0; k < 3; ++k) {
+        for (int a = 0; a < 3; ++a) centroid[a] += mesh.vertices[tri[k]][a] / 3;
+      }
+      double w = 0;
+      for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        if (label[t] == p) continue;
+        double q[3][3];
+        for (int k = 0; k < 3; ++k) {
+          for (int a = 0; a < 3; ++a) q[k][a] = mesh.vertices[mesh.triangles[t][k]][a] - centroid[a];
+        }
+        w += solid_angle(q[0], q[1], q[2]);
+      }
+      inside += std::abs(w) >= 2 * kPi;  // |winding number| >= 1/2
+      ++samples;
+    }
+    if (2 * inside < samples) {
+      for (int t : mine) std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
+      flipped += mine.size();
+    }
+  }
+  return flipped;
+}
+
 }  // namespace
 
 double winding_number(const TriangleMesh& mesh, const std::array<double, 3>& p) {
@@ -113,6 +201,8 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
   mesh.triangles = input.triangles;
   VoxelizeStats st;
   st.orientation_flips = repair_orientation(mesh);
+  weld_vertices(mesh);
+  st.orientation_flips += flip_inverted_pieces(mesh, options.winding_budget);
 
   // Grid placement: the bounding box centred in whole voxels plus the margin.
   std::array<double, 3> lo{}, hi{};
@@ -171,11 +261,12 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
       const P2 p0{A[ua], A[va]}, p1{B[ua], B[va]}, p2{C[ua], C[va]};
       const double umin = std::min({p0.u, p1.u, p2.u}), umax = std::max({p0.u, p1.u, p2.u});
       const double vmin = std::min({p0.v, p1.v, p2.v}), vmax = std::max({p0.v, p1.v, p2.v});
-      // Rows whose centre lies in the projected bounding box (closed interval).
-      const int iu0 = std::max(0, static_cast<int>(std::ceil((umin - origin[ua]) / h - 0.5)));
-      const int iu1 = std::min(nu - 1, static_cast<int>(std::floor((umax - origin[ua]) / h - 0.5)));
-      const int iv0 = std::max(0, static_cast<int>(std::ceil((vmin - origin[va]) / h - 0.5)));
-      const int iv1 = std::min(nvv - 1, static_cast<int>(std::floor((vmax - origin[va]) / h - 0.5)));
+      // Rows whose centre may lie in the projected bounding box, one extra on each side so
+      // that rounding here can never drop a row the exact edge test would accept.
+      const int iu0 = std::max(0, static_cast<int>(std::floor((umin - origin[ua]) / h - 0.5)));
+      const int iu1 = std::min(nu - 1, static_cast<int>(std::ceil((umax - origin[ua]) / h - 0.5)));
+      const int iv0 = std::max(0, static_cast<int>(std::floor((vmin - origin[va]) / h - 0.5)));
+      const int iv1 = std::min(nvv - 1, static_cast<int>(std::ceil((vmax - origin[va]) / h - 0.5)));
       for (int iv = iv0; iv <= iv1; ++iv) {
         const double cv = origin[va] + (iv + 0.5) * h;
         for (int iu = iu0; iu <= iu1; ++iu) {
