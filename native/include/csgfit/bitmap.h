@@ -50,6 +50,10 @@ class Bitmap {
   Bitmap& operator&=(const Bitmap& o);
   /// this = this AND NOT o.
   Bitmap& subtract(const Bitmap& o);
+  /// The same operations restricted to rows [row_begin, row_end): the evaluator knows which
+  /// rows a primitive can touch and skips the rest.
+  void or_rows(const Bitmap& o, int row_begin, int row_end);
+  void subtract_rows(const Bitmap& o, int row_begin, int row_end);
   /// Complement within the canvas (padding bits stay zero).
   Bitmap inverted() const;
 

@@ -61,16 +61,24 @@ class TreeEvaluator {
     std::vector<int> children;
     Primitive* primitive;
   };
+  /// Rows [begin, end) outside which a mask is known to be empty.
+  struct Rows {
+    int begin = 0, end = 0;
+  };
   int build(Node& node, int parent);
-  void combine(int slot, Bitmap& out, int skip_child = -1, const Bitmap* replacement = nullptr);
+  /// out = the operator of `slot` over its children's masks, where skip_child takes
+  /// `replacement` (with its rows) instead of its own mask, or is left out when that is null.
+  void combine(int slot, Bitmap& out, Rows& out_rows, int skip_child,
+               const Bitmap* replacement, Rows replacement_rows);
   Mismatch measure(const Bitmap& raster) const;
   /// Recomputes the ancestors of `slot` into scratch buffers, with `slot` taking `mask` (or
   /// being removed when mask is null), and returns the root's raster.
-  const Bitmap& propagate_scratch(int slot, const Bitmap* mask);
+  const Bitmap& propagate_scratch(int slot, const Bitmap* mask, Rows rows);
 
   const Bitmap& target_;
   std::vector<Slot> slots_;
   std::vector<Bitmap> masks_;
+  std::vector<Rows> rows_;
   std::vector<int> leaf_slots_;
   std::vector<Primitive*> leaf_prims_;
   int root_ = -1;
@@ -78,6 +86,7 @@ class TreeEvaluator {
   std::size_t evaluations_ = 0;
   Bitmap scratch_leaf_;
   std::vector<Bitmap> scratch_path_;
+  std::vector<Rows> scratch_rows_;
 };
 
 }  // namespace csgfit

@@ -67,6 +67,18 @@ Bitmap& Bitmap::subtract(const Bitmap& o) {
   return *this;
 }
 
+void Bitmap::or_rows(const Bitmap& o, int row_begin, int row_end) {
+  const std::size_t end = static_cast<std::size_t>(row_end) * words_per_row_;
+  for (std::size_t i = static_cast<std::size_t>(row_begin) * words_per_row_; i < end; ++i)
+    bits_[i] |= o.bits_[i];
+}
+
+void Bitmap::subtract_rows(const Bitmap& o, int row_begin, int row_end) {
+  const std::size_t end = static_cast<std::size_t>(row_end) * words_per_row_;
+  for (std::size_t i = static_cast<std::size_t>(row_begin) * words_per_row_; i < end; ++i)
+    bits_[i] &= ~o.bits_[i];
+}
+
 Bitmap Bitmap::inverted() const {
   Bitmap out = *this;
   for (std::uint64_t& w : out.bits_) w = ~w;

@@ -50,11 +50,22 @@ inline void clip_halfplane(Interval& iv, double a, double b) {
     iv.hi = std::min(iv.hi, x);
 }
 
+// What scan conversion needs of a primitive, computed once rather than once per row.
+struct SpanSetup {
+  const Primitive& p;
+  double c, s;                              // cos and sin of the angle
+  std::array<std::array<double, 2>, 3> t{};  // triangle vertices
+  explicit SpanSetup(const Primitive& prim)
+      : p(prim), c(std::cos(prim.angle * kDegToRad)), s(std::sin(prim.angle * kDegToRad)) {
+    if (p.kind == PrimitiveKind::Triangle) t = p.triangle_vertices();
+  }
+};
+
 // The x interval of the primitive on the horizontal line at height y.
-Interval span_at(const Primitive& p, double y) {
+Interval span_at(const SpanSetup& q, double y) {
+  const Primitive& p = q.p;
+  const double c = q.c, s = q.s;
   Interval iv;
-  const double c = std::cos(p.angle * kDegToRad);
-  const double s = std::sin(p.angle * kDegToRad);
   const double v = y - p.cy;
   switch (p.kind) {
     case PrimitiveKind::Rectangle:
@@ -75,10 +86,9 @@ Interval span_at(const Primitive& p, double y) {
       return Interval{p.cx + (-qb - root) / (2 * qa), p.cx + (-qb + root) / (2 * qa)};
     }
     case PrimitiveKind::Triangle: {
-      const auto t = p.triangle_vertices();
       for (int i = 0; i < 3; ++i) {
-        const auto& a = t[i];
-        const auto& b = t[(i + 1) % 3];
+        const auto& a = q.t[i];
+        const auto& b = q.t[(i + 1) % 3];
         // cross(b - a, q - a) >= 0 for q = (x, y): linear in x.
         const double ex = b[0] - a[0], ey = b[1] - a[1];
         clip_halfplane(iv, -ey, ex * (y - a[1]) + ey * a[0]);
@@ -177,7 +187,7 @@ std::array<std::array<double, 2>, 3> Primitive::triangle_vertices() const {
 }
 
 bool Primitive::contains(double x, double y) const {
-  const Interval iv = span_at(*this, y);
+  const Interval iv = span_at(SpanSetup(*this), y);
   return !iv.empty() && x >= iv.lo && x <= iv.hi;
 }
 
@@ -282,9 +292,10 @@ void rasterize(const Primitive& p, Bitmap& out) {
   int r0, r1;
   row_range(p, out.height(), r0, r1);
   const double width = static_cast<double>(out.width());
+  const SpanSetup setup(p);
   for (int r = r0; r < r1; ++r) {
     const double y = out.height() - r - 0.5;
-    const Interval iv = span_at(p, y);
+    const Interval iv = span_at(setup, y);
     if (iv.empty()) continue;
     // Pixel col is inside when its centre col + 0.5 lies in [lo, hi].
     const double c0 = std::max(std::ceil(iv.lo - 0.5), 0.0);
