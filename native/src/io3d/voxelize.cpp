@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "csgfit/error.h"
@@ -28,22 +29,28 @@ struct P2 {
 };
 
 // Orientation of p against the line a->b, with a sign that is never 0 for a proper edge: ties
-// are broken by simulating p + (eps, eps^2). The value is computed from the endpoints in a
-// canonical order, so two triangles sharing an edge get exactly opposite results and a ray
-// through the edge (or through a vertex) is counted by exactly one triangle of a closed fan.
-int edge_sign(P2 a, P2 b, P2 p, double* value) {
+// are broken by simulation of simplicity, as if every sample point were moved by
+// (e1, e2, e3), e1 >> e2 >> e3 > 0, in (x, y, z). In a ray's (u, v) plane that moves p by
+// (eps, eps^2) when u is the more perturbed axis, by (eps^2, eps) otherwise (v_major). The value
+// is computed from the endpoints in a canonical order, so two triangles sharing an edge get
+// exactly opposite results and a ray through an edge or a vertex is counted by exactly one
+// triangle of a closed fan.
+int edge_sign(P2 a, P2 b, P2 p, bool v_major, double* value) {
   const bool swapped = b.u < a.u || (b.u == a.u && b.v < a.v);
   if (swapped) std::swap(a, b);
   double w = (b.u - a.u) * (p.v - a.v) - (b.v - a.v) * (p.u - a.u);
+  // Moving p by (du, dv) adds (b.u - a.u) * dv - (b.v - a.v) * du.
+  const int su = b.v > a.v ? -1 : (b.v < a.v ? 1 : 0);  // the du term
+  const int sv = b.u > a.u ? 1 : (b.u < a.u ? -1 : 0);  // the dv term
   int s;
   if (w > 0) {
     s = 1;
   } else if (w < 0) {
     s = -1;
-  } else if (b.v != a.v) {
-    s = b.v > a.v ? -1 : 1;  // the eps term -(b.v - a.v) * eps dominates
+  } else if (!v_major) {
+    s = su != 0 ? su : sv;
   } else {
-    s = b.u > a.u ? 1 : (b.u < a.u ? -1 : 0);  // then (b.u - a.u) * eps^2
+    s = sv != 0 ? sv : su;
   }
   if (swapped) {
     w = -w;
@@ -56,7 +63,8 @@ int edge_sign(P2 a, P2 b, P2 p, double* value) {
 struct Crossing {
   double t;           // position along the ray axis
   std::uint32_t row;  // iv * nu + iu
-  int sign;           // +1 where the ray (towards +axis) enters, -1 where it leaves
+  std::int16_t sign;  // +1 where the ray (towards +axis) enters, -1 where it leaves
+  bool tie_left;      // when t equals a sample's coordinate: is the crossing before the sample?
 };
 
 // Solid angle of triangle (a, b, c) seen from the origin (Van Oosterom and Strackee 1983).
@@ -179,6 +187,117 @@ std::size_t flip_inverted_pieces(TriangleMesh& mesh, double budget) {
   return flipped;
 }
 
+// The generalised winding number with far-field clustering (a one-level version of Barill et
+// al. 2018, "Fast winding numbers for soups and clouds"): triangles are grouped by Morton
+// order of their centroids; a group far from the query point (distance > kFar times its
+// radius) contributes the solid angle of its total area vector placed at its area centroid,
+// the others are summed exactly.
+class FastWinding {
+ public:
+  static constexpr int kGroup = 32;
+  static constexpr double kFar = 3.0;
+
+  explicit FastWinding(const TriangleMesh& mesh) {
+    const std::size_t nt = mesh.triangles.size();
+    std::array<double, 3> lo = mesh.vertices[mesh.triangles[0][0]], hi = lo;
+    std::vector<std::array<double, 3>> centroid(nt);
+    for (std::size_t t = 0; t < nt; ++t) {
+      for (int a = 0; a < 3; ++a) {
+        centroid[t][a] = (mesh.vertices[mesh.triangles[t][0]][a] + mesh.vertices[mesh.triangles[t][1]][a] +
+                          mesh.vertices[mesh.triangles[t][2]][a]) / 3;
+        lo[a] = std::min(lo[a], centroid[t][a]);
+        hi[a] = std::max(hi[a], centroid[t][a]);
+      }
+    }
+    std::vector<std::pair<std::uint64_t, int>> order(nt);
+    for (std::size_t t = 0; t < nt; ++t) {
+      std::uint64_t code = 0;
+      std::uint32_t q[3];
+      for (int a = 0; a < 3; ++a) {
+        const double ext = hi[a] - lo[a];
+        q[a] = ext > 0 ? static_cast<std::uint32_t>((centroid[t][a] - lo[a]) / ext * 2097151.0) : 0;
+      }
+      for (int bit = 20; bit >= 0; --bit) {
+        for (int a = 0; a < 3; ++a) code = (code << 1) | ((q[a] >> bit) & 1u);
+      }
+      order[t] = {code, static_cast<int>(t)};
+    }
+    std::sort(order.begin(), order.end());
+    tri_.resize(nt * 9);
+    for (std::size_t i = 0; i < nt; ++i) {
+      const auto& t = mesh.triangles[order[i].second];
+      for (int k = 0; k < 3; ++k) {
+        for (int a = 0; a < 3; ++a) tri_[i * 9 + k * 3 + a] = mesh.vertices[t[k]][a];
+      }
+    }
+    for (std::size_t b = 0; b < nt; b += kGroup) {
+      const std::size_t e = std::min(nt, b + kGroup);
+      Group g;
+      g.begin = b;
+      g.end = e;
+      double area_sum = 0;
+      std::array<double, 3> c{0, 0, 0};
+      for (std::size_t i = b; i < e; ++i) {
+        const double* v = &tri_[i * 9];
+        const double u[3] = {v[3] - v[0], v[4] - v[1], v[5] - v[2]};
+        const double w[3] = {v[6] - v[0], v[7] - v[1], v[8] - v[2]};
+        const double n[3] = {0.5 * (u[1] * w[2] - u[2] * w[1]), 0.5 * (u[2] * w[0] - u[0] * w[2]),
+                             0.5 * (u[0] * w[1] - u[1] * w[0])};
+        const double area = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int a = 0; a < 3; ++a) {
+          g.normal[a] += n[a];
+          c[a] += area * (v[a] + v[3 + a] + v[6 + a]) / 3;
+        }
+        area_sum += area;
+      }
+      for (int a = 0; a < 3; ++a) {
+        g.centre[a] = area_sum > 0 ? c[a] / area_sum : tri_[b * 9 + a];
+      }
+      for (std::size_t i = b * 3; i < e * 3; ++i) {
+        const double dx = tri_[i * 3] - g.centre[0], dy = tri_[i * 3 + 1] - g.centre[1],
+                     dz = tri_[i * 3 + 2] - g.centre[2];
+        g.radius = std::max(g.radius, std::sqrt(dx * dx + dy * dy + dz * dz));
+      }
+      groups_.push_back(g);
+    }
+  }
+
+  double at(const std::array<double, 3>& p) const {
+    double sum = 0;
+    for (const Group& g : groups_) {
+      const double d[3] = {g.centre[0] - p[0], g.centre[1] - p[1], g.centre[2] - p[2]};
+      const double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+      if (d2 > kFar * kFar * g.radius * g.radius) {
+        sum += (g.normal[0] * d[0] + g.normal[1] * d[1] + g.normal[2] * d[2]) / (d2 * std::sqrt(d2));
+        continue;
+      }
+      for (std::size_t i = g.begin; i < g.end; ++i) {
+        const double* v = &tri_[i * 9];
+        const double a[3] = {v[0] - p[0], v[1] - p[1], v[2] - p[2]};
+        const double b[3] = {v[3] - p[0], v[4] - p[1], v[5] - p[2]};
+        const double c[3] = {v[6] - p[0], v[7] - p[1], v[8] - p[2]};
+        sum += solid_angle(a, b, c);
+      }
+    }
+    return sum / (4 * kPi);
+  }
+
+  // Solid-angle evaluations per query, roughly, for the work budget.
+  double cost_per_query() const {
+    return static_cast<double>(groups_.size()) + 8.0 * kGroup;
+  }
+
+ private:
+  struct Group {
+    std::size_t begin = 0, end = 0;
+    std::array<double, 3> centre{{0, 0, 0}};
+    std::array<double, 3> normal{{0, 0, 0}};  // area vector: sum of area * unit normal
+    double radius = 0;
+  };
+  std::vector<double> tri_;  // 9 coordinates per triangle, in Morton order
+  std::vector<Group> groups_;
+};
+
 }  // namespace
 
 double winding_number(const TriangleMesh& mesh, const std::array<double, 3>& p) {
@@ -252,6 +371,7 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
   std::vector<Crossing> crossings;
   for (int a = 0; a < 3; ++a) {
     const int ua = (a + 1) % 3, va = (a + 2) % 3;  // (u, v, a) is right-handed
+    const bool v_major = va < ua;                   // v is x for the y rays
     const int nu = n[ua], nvv = n[va];
     crossings.clear();
     for (const auto& t : mesh.triangles) {
@@ -259,6 +379,25 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
       const auto& B = mesh.vertices[t[1]];
       const auto& C = mesh.vertices[t[2]];
       const P2 p0{A[ua], A[va]}, p1{B[ua], B[va]}, p2{C[ua], C[va]};
+      // Where the crossing lies exactly at a sample's coordinate, the perturbed sample is past
+      // it if its own shift along the ray outweighs the shift of the crossing, which moves
+      // with the sample's (u, v) shift by -(n_u du + n_v dv) / n_a along the plane.
+      bool tie_left = true;
+      {
+        const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+        const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+        const double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                               e1[0] * e2[1] - e1[1] * e2[0]};
+        // Axes in order of decreasing shift: x, y, z. Before the ray's own axis, a non-zero
+        // normal component decides; the ray's own axis shift (+) means "crossing before".
+        for (int axis = 0; axis < 3; ++axis) {
+          if (axis == a) break;
+          if (nrm[axis] != 0) {
+            tie_left = (nrm[axis] / nrm[a]) > 0;  // crossing moves by -(n_axis / n_a) * shift
+            break;
+          }
+        }
+      }
       const double umin = std::min({p0.u, p1.u, p2.u}), umax = std::max({p0.u, p1.u, p2.u});
       const double vmin = std::min({p0.v, p1.v, p2.v}), vmax = std::max({p0.v, p1.v, p2.v});
       // Rows whose centre may lie in the projected bounding box, one extra on each side so
@@ -272,9 +411,9 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
         for (int iu = iu0; iu <= iu1; ++iu) {
           const P2 c{origin[ua] + (iu + 0.5) * h, cv};
           double w0, w1, w2;
-          const int s0 = edge_sign(p1, p2, c, &w0);
-          const int s1 = edge_sign(p2, p0, c, &w1);
-          const int s2 = edge_sign(p0, p1, c, &w2);
+          const int s0 = edge_sign(p1, p2, c, v_major, &w0);
+          const int s1 = edge_sign(p2, p0, c, v_major, &w1);
+          const int s2 = edge_sign(p0, p1, c, v_major, &w2);
           if (s0 == 0 || s0 != s1 || s1 != s2) continue;
           const double wsum = w0 + w1 + w2;
           if (wsum == 0) continue;  // degenerate in projection
@@ -282,12 +421,15 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
           // Rounding can put the depth a hair outside the triangle's own range.
           depth = std::clamp(depth, std::min({A[a], B[a], C[a]}), std::max({A[a], B[a], C[a]}));
           // Counter-clockwise in (u, v) means the normal points along +a: the ray leaves.
-          crossings.push_back({depth, static_cast<std::uint32_t>(iv * nu + iu), s0 > 0 ? -1 : 1});
+          crossings.push_back({depth, static_cast<std::uint32_t>(iv * nu + iu),
+                               static_cast<std::int16_t>(s0 > 0 ? -1 : 1), tie_left});
         }
       }
     }
     std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) {
-      return x.row != y.row ? x.row < y.row : x.t < y.t;
+      if (x.row != y.row) return x.row < y.row;
+      if (x.t != y.t) return x.t < y.t;
+      return x.tie_left > y.tie_left;
     });
     const int na = n[a];
     for (std::size_t i = 0; i < crossings.size();) {
@@ -304,7 +446,9 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
       std::size_t k = i;
       for (int m = 0; m < na; ++m, base += stride[a]) {
         const double centre = origin[a] + (m + 0.5) * h;
-        while (k < j && crossings[k].t < centre) left += crossings[k++].sign;
+        while (k < j && (crossings[k].t < centre || (crossings[k].t == centre && crossings[k].tie_left))) {
+          left += crossings[k++].sign;
+        }
         const int right = left - total_sign;  // winding number from +inf
         votes[base] = static_cast<std::uint8_t>(votes[base] + (left != 0) + (right != 0));
       }
@@ -318,24 +462,38 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
     if (votes[i] >= 2 && votes[i] <= 4) ambiguous.push_back(i);
   }
   st.ambiguous_voxels = ambiguous.size();
-  const double tris = static_cast<double>(mesh.triangles.size());
   std::vector<std::size_t> exact;
-  if (static_cast<double>(ambiguous.size()) * tris <= options.winding_budget) {
-    exact = ambiguous;
-  } else {
-    for (std::size_t i : ambiguous) {
-      if (votes[i] == 3) exact.push_back(i);
+  if (!ambiguous.empty()) {
+    const FastWinding winding(mesh);
+    const double cost = winding.cost_per_query();
+    if (static_cast<double>(ambiguous.size()) * cost <= options.winding_budget) {
+      exact = ambiguous;
+    } else {
+      for (std::size_t i : ambiguous) {
+        if (votes[i] == 3) exact.push_back(i);
+      }
+      if (static_cast<double>(exact.size()) * cost > options.winding_budget) exact.clear();
     }
-    if (static_cast<double>(exact.size()) * tris > options.winding_budget) exact.clear();
-  }
-  for (std::size_t i : ambiguous) votes[i] = votes[i] >= 3 ? 6 : 0;  // the vote, ties inside
-  for (std::size_t i : exact) {
-    const std::size_t x = i % stride[1], y = (i / stride[1]) % static_cast<std::size_t>(n[1]),
-                      z = i / stride[2];
-    const std::array<double, 3> p{origin[0] + (static_cast<double>(x) + 0.5) * h,
-                                  origin[1] + (static_cast<double>(y) + 0.5) * h,
-                                  origin[2] + (static_cast<double>(z) + 0.5) * h};
-    votes[i] = std::abs(winding_number(mesh, p)) >= 0.5 ? 6 : 0;
+    for (std::size_t i : ambiguous) votes[i] = votes[i] >= 3 ? 6 : 0;  // the vote, ties inside
+    // Two threads: the machine has two cores and each query is independent.
+    auto work = [&](std::size_t from, std::size_t to) {
+      for (std::size_t e = from; e < to; ++e) {
+        const std::size_t i = exact[e];
+        const std::size_t x = i % stride[1], y = (i / stride[1]) % static_cast<std::size_t>(n[1]),
+                          z = i / stride[2];
+        const std::array<double, 3> p{origin[0] + (static_cast<double>(x) + 0.5) * h,
+                                      origin[1] + (static_cast<double>(y) + 0.5) * h,
+                                      origin[2] + (static_cast<double>(z) + 0.5) * h};
+        votes[i] = std::abs(winding.at(p)) >= 0.5 ? 6 : 0;
+      }
+    };
+    if (exact.size() >= 2048) {
+      std::thread helper(work, exact.size() / 2, exact.size());
+      work(0, exact.size() / 2);
+      helper.join();
+    } else {
+      work(0, exact.size());
+    }
   }
   st.winding_evaluations = exact.size();
 
