@@ -1,3 +1,4 @@
+#include "scad_format.h"
 #include "scad_writer3d.h"
 
 #include <algorithm>
@@ -14,95 +15,18 @@ namespace csgfit {
 
 namespace {
 
-// Values beyond this are not a model any more, and fixed decimals would print hundreds of
-// digits.
-constexpr double kMaxMagnitude = 1e9;
+using scad::collect_flat;
+using scad::comment_safe;
+using scad::is_empty;
+using scad::kMaxMagnitude;
+using scad::nice_ceiling;
+using scad::slider_step;
+
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-// OpenSCAD keywords and built-ins, plus the helpers this file defines: the model's module must
-// not shadow any of them.
-const char* const kReserved[] = {
-    "module", "function", "if", "else", "for", "let", "each", "true", "false", "undef",
-    "include", "use", "assert", "echo", "intersection_for", "children", "cube", "sphere",
-    "cylinder", "polyhedron", "square", "circle", "polygon", "text", "import", "surface",
-    "projection", "linear_extrude", "rotate_extrude", "translate", "rotate", "scale", "mirror",
-    "multmatrix", "color", "offset", "minkowski", "hull", "resize", "union", "difference",
-    "intersection", "render", "group", "parent_module", "fn_r", "fn_sr", "fn_sphere_volume",
-    "csg_torus", "segments"};
-
-std::string fmt(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s(buf);
-  if (s.find('.') != std::string::npos) {
-    while (s.back() == '0') s.pop_back();
-    if (s.back() == '.') s.pop_back();
-  }
-  if (s == "-0") s = "0";
-  return s;
-}
-
-double slider_step(double extent) {
-  if (!(extent > 0)) return 0.01;
-  return std::pow(10.0, std::floor(std::log10(extent)) - 3);
-}
-
-double nice_ceiling(double v) {
-  if (!(v > 0)) return 1;
-  const double p = std::pow(10.0, std::floor(std::log10(v)));
-  for (double m : {1.0, 2.0, 5.0, 10.0})
-    if (m * p >= v) return m * p;
-  return 10 * p;
-}
-
+std::string fmt(double v, int decimals) { return scad::number(v, decimals); }
 std::string sanitize_identifier(const std::string& source) {
-  std::string stem = source;
-  const std::size_t slash = stem.find_last_of("/\\");
-  if (slash != std::string::npos) stem = stem.substr(slash + 1);
-  const std::size_t dot = stem.find('.');
-  if (dot != std::string::npos) stem = stem.substr(0, dot);
-  std::string id;
-  for (char ch : stem) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    if (std::isalnum(c))
-      id += static_cast<char>(std::tolower(c));
-    else if (!id.empty() && id.back() != '_')
-      id += '_';
-  }
-  while (!id.empty() && id.back() == '_') id.pop_back();
-  if (id.empty()) return "model";
-  if (std::isdigit(static_cast<unsigned char>(id[0]))) id = "model_" + id;
-  for (const char* r : kReserved)
-    if (id == r) return id + "_model";
-  return id;
-}
-
-// Control characters would end a // comment and inject code.
-std::string comment_safe(std::string s) {
-  for (char& ch : s)
-    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ch = '?';
-  return s;
-}
-
-bool is_empty(const Node3D& n) {
-  switch (n.kind) {
-    case NodeKind::Primitive: return false;
-    case NodeKind::Union: return std::all_of(n.children.begin(), n.children.end(), is_empty);
-    case NodeKind::Difference: return n.children.empty() || is_empty(n.children.front());
-    case NodeKind::Intersection:
-      return n.children.empty() || std::any_of(n.children.begin(), n.children.end(), is_empty);
-  }
-  return true;
-}
-
-void collect_flat(const Node3D& n, NodeKind kind, std::vector<const Node3D*>& out) {
-  for (const Node3D& c : n.children) {
-    if (is_empty(c) && kind == NodeKind::Union) continue;
-    if (c.kind == kind)
-      collect_flat(c, kind, out);
-    else
-      out.push_back(&c);
-  }
+  return scad::identifier(source, "model");
 }
 
 struct Var {

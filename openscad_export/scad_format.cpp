@@ -1,0 +1,77 @@
+#include "scad_format.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+namespace csgfit::scad {
+
+namespace {
+
+// OpenSCAD keywords and built-ins, plus the helpers the writers define: a model's module must
+// not shadow any of them (module circle() calling circle() would recurse).
+const char* const kReserved[] = {
+    "module", "function", "if", "else", "for", "let", "each", "true", "false", "undef",
+    "include", "use", "assert", "echo", "intersection_for", "children", "cube", "sphere",
+    "cylinder", "polyhedron", "square", "circle", "polygon", "text", "import", "surface",
+    "projection", "linear_extrude", "rotate_extrude", "translate", "rotate", "scale", "mirror",
+    "multmatrix", "color", "offset", "minkowski", "hull", "resize", "union", "difference",
+    "intersection", "render", "group", "parent_module", "fn_r", "fn_sr", "fn_sphere_volume",
+    "csg_torus", "segments"};
+
+}  // namespace
+
+std::string number(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s(buf);
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+double slider_step(double extent) {
+  if (!(extent > 0)) return 0.01;
+  return std::pow(10.0, std::floor(std::log10(extent)) - 3);
+}
+
+double nice_ceiling(double v) {
+  if (!(v > 0)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(v)));
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * p >= v) return m * p;
+  return 10 * p;
+}
+
+std::string identifier(const std::string& source, const std::string& fallback) {
+  std::string stem = source;
+  const std::size_t slash = stem.find_last_of("/\\");
+  if (slash != std::string::npos) stem = stem.substr(slash + 1);
+  const std::size_t dot = stem.find('.');
+  if (dot != std::string::npos) stem = stem.substr(0, dot);
+  std::string id;
+  for (char ch : stem) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (std::isalnum(c))
+      id += static_cast<char>(std::tolower(c));
+    else if (!id.empty() && id.back() != '_')
+      id += '_';
+  }
+  while (!id.empty() && id.back() == '_') id.pop_back();
+  if (id.empty()) return fallback;
+  if (std::isdigit(static_cast<unsigned char>(id[0]))) id = fallback + "_" + id;
+  for (const char* r : kReserved)
+    if (id == r) return id + "_" + fallback;
+  return id;
+}
+
+std::string comment_safe(std::string s) {
+  for (char& ch : s)
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ch = '?';
+  return s;
+}
+
+}  // namespace csgfit::scad
