@@ -240,10 +240,11 @@ class MeshBuilder {
 
   std::size_t vertex_count() const { return mesh_.vertices.size(); }
 
-  void add_vertex(double x, double y, double z, const std::string& where) {
+  // `what number` says where in the file (e.g. "line 12"); only formatted on failure.
+  void add_vertex(double x, double y, double z, const char* what, long long number) {
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      fail(quoted(path_) + " " + where + ": vertex " + std::to_string(mesh_.vertices.size() + 1) +
-           " has a non-finite coordinate (NaN or infinity)");
+      fail(quoted(path_) + " " + what + " " + std::to_string(number) + ": vertex " +
+           std::to_string(mesh_.vertices.size() + 1) + " has a non-finite coordinate (NaN or infinity)");
     }
     if (mesh_.vertices.size() >= options_.max_vertices) {
       fail(quoted(path_) + " has more than " + std::to_string(options_.max_vertices) +
@@ -253,14 +254,15 @@ class MeshBuilder {
   }
 
   // A welded vertex (STL has none shared): equal positions get one index.
-  int add_welded_vertex(double x, double y, double z, const std::string& where) {
+  int add_welded_vertex(double x, double y, double z, const char* what, long long number) {
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-      fail(quoted(path_) + " " + where + ": a vertex has a non-finite coordinate (NaN or infinity)");
+      fail(quoted(path_) + " " + what + " " + std::to_string(number) +
+           ": a vertex has a non-finite coordinate (NaN or infinity)");
     }
     Key key{x + 0.0, y + 0.0, z + 0.0};  // -0 and +0 are one position
     const auto it = weld_.find(key);
     if (it != weld_.end()) return it->second;
-    add_vertex(key.x, key.y, key.z, where);
+    add_vertex(key.x, key.y, key.z, what, number);
     const int index = static_cast<int>(mesh_.vertices.size() - 1);
     weld_.emplace(key, index);
     return index;
@@ -396,8 +398,8 @@ TriangleMesh read_stl_binary(const std::string& path, const std::string& d,
     long long idx[3];
     for (int v = 0; v < 3; ++v) {
       const unsigned char* q = rec + 12 * v;
-      idx[v] = b.add_welded_vertex(le_float(q), le_float(q + 4), le_float(q + 8),
-                                   "triangle " + std::to_string(t + 1));
+      idx[v] = b.add_welded_vertex(le_float(q), le_float(q + 4), le_float(q + 8), "triangle",
+                                   static_cast<long long>(t + 1));
     }
     b.add_face(idx, 3);
   }
@@ -443,7 +445,7 @@ TriangleMesh read_stl_ascii(const std::string& path, const std::string& d,
           if (!parse_double(next_token(c), &x)) bad("a vertex coordinate");
         }
         if (polygon.size() > 1000) bad("'endloop'");
-        polygon.push_back(b.add_welded_vertex(xyz[0], xyz[1], xyz[2], where()));
+        polygon.push_back(b.add_welded_vertex(xyz[0], xyz[1], xyz[2], "line", c.line));
       }
       expect("endfacet");
       b.add_face(polygon.data(), polygon.size());
@@ -509,7 +511,7 @@ TriangleMesh read_obj(const std::string& path, const std::string& d, const MeshR
   std::vector<long long> face;
   while (!c.at_end()) {
     const long long line = c.line;
-    const std::string where = "line " + std::to_string(line);
+    auto where = [line] { return "line " + std::to_string(line); };
     while (c.p < c.end && is_blank(*c.p)) ++c.p;
     if (c.at_end()) break;
     if (*c.p == '\n' || *c.p == '#') {
@@ -530,10 +532,10 @@ TriangleMesh read_obj(const std::string& path, const std::string& d, const MeshR
       for (double& x : xyz) {
         const std::string_view t = token();
         if (!parse_double(t, &x)) {
-          fail(quoted(path) + " " + where + ": a vertex needs 3 numeric coordinates");
+          fail(quoted(path) + " " + where() + ": a vertex needs 3 numeric coordinates");
         }
       }
-      b.add_vertex(xyz[0], xyz[1], xyz[2], where);
+      b.add_vertex(xyz[0], xyz[1], xyz[2], "line", line);
     } else if (key == "f") {
       face.clear();
       for (;;) {
@@ -543,23 +545,23 @@ TriangleMesh read_obj(const std::string& path, const std::string& d, const MeshR
         std::string_view rest;
         if (!parse_int_prefix(t, &index, &rest) || (!rest.empty() && rest.front() != '/') ||
             index == 0) {
-          fail(quoted(path) + " " + where + ": bad face vertex '" + std::string(t) + "'");
+          fail(quoted(path) + " " + where() + ": bad face vertex '" + std::string(t) + "'");
         }
         // Negative indices count back from the last vertex defined so far.
         if (index < 0) {
           index += static_cast<long long>(b.vertex_count());
           if (index < 0) {
-            fail(quoted(path) + " " + where + ": face index " + std::string(t) +
+            fail(quoted(path) + " " + where() + ": face index " + std::string(t) +
                  " is out of range (" + count_text(b.vertex_count(), "vertex") + " so far)");
           }
         } else {
           index -= 1;
         }
-        if (face.size() > 100000) fail(quoted(path) + " " + where + ": face with too many vertices");
+        if (face.size() > 100000) fail(quoted(path) + " " + where() + ": face with too many vertices");
         face.push_back(index);
       }
       if (face.size() < 3) {
-        fail(quoted(path) + " " + where + ": a face needs at least 3 vertices");
+        fail(quoted(path) + " " + where() + ": a face needs at least 3 vertices");
       }
       b.add_face(face.data(), face.size());
     }
@@ -673,7 +675,7 @@ TriangleMesh read_off(const std::string& path, const std::string& d, const MeshR
         fail(quoted(path) + " " + where() + ": a vertex needs 3 numeric coordinates");
       }
     }
-    b.add_vertex(xyz[0], xyz[1], xyz[2], where());
+    b.add_vertex(xyz[0], xyz[1], xyz[2], "line", lines.line_number());
   }
   std::vector<long long> face;
   for (unsigned long long f = 0; f < nf; ++f) {
@@ -984,7 +986,7 @@ TriangleMesh read_ply(const std::string& path, const std::string& d, const MeshR
           }
         }
         if (&e == vertex_el) {
-          b.add_vertex(values[ix], values[iy], values[iz], "vertex " + std::to_string(r + 1));
+          b.add_vertex(values[ix], values[iy], values[iz], "vertex", static_cast<long long>(r + 1));
         } else if (&e == face_el) {
           add_face(r);
         }
@@ -1029,7 +1031,7 @@ TriangleMesh read_ply(const std::string& path, const std::string& d, const MeshR
           }
         }
         if (&e == vertex_el) {
-          b.add_vertex(values[ix], values[iy], values[iz], "vertex " + std::to_string(r + 1));
+          b.add_vertex(values[ix], values[iy], values[iz], "vertex", static_cast<long long>(r + 1));
         } else if (&e == face_el) {
           add_face(r);
         }
