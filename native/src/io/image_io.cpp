@@ -205,23 +205,25 @@ bool jpeg_dht_is_valid(const std::uint8_t* segment, std::size_t length) {
   return true;
 }
 
+enum class JpegCheck { kComplete, kTruncated, kUnsafe };
+
 // A complete JPEG ends its last scan with an EOI marker. Segments are skipped by their length
 // so that an EOI inside an embedded thumbnail (APP1) does not count.
-bool jpeg_is_complete_and_safe(const std::vector<std::uint8_t>& d) {
+JpegCheck check_jpeg(const std::vector<std::uint8_t>& d) {
   const std::size_t n = d.size();
   std::size_t pos = 2;
   for (;;) {
     while (pos < n && d[pos] != 0xFF) ++pos;  // entropy-coded data between markers
     while (pos < n && d[pos] == 0xFF) ++pos;  // fill bytes
-    if (pos >= n) return false;
+    if (pos >= n) return JpegCheck::kTruncated;
     const std::uint8_t marker = d[pos++];
     if (marker == 0x00 || marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) continue;
-    if (marker == 0xD9) return true;
-    if (marker == 0xD8) return false;
-    if (pos + 2 > n) return false;
+    if (marker == 0xD9) return JpegCheck::kComplete;
+    if (marker == 0xD8) return JpegCheck::kTruncated;
+    if (pos + 2 > n) return JpegCheck::kTruncated;
     const std::size_t length = (std::size_t{d[pos]} << 8) | d[pos + 1];
-    if (length < 2 || pos + length > n) return false;
-    if (marker == 0xC4 && !jpeg_dht_is_valid(&d[pos + 2], length - 2)) return false;
+    if (length < 2 || pos + length > n) return JpegCheck::kTruncated;
+    if (marker == 0xC4 && !jpeg_dht_is_valid(&d[pos + 2], length - 2)) return JpegCheck::kUnsafe;
     pos += length;
   }
 }
@@ -500,6 +502,7 @@ GreyImage read_image(const std::string& path, const ImageReadOptions& options) {
 
   // Size from the header alone, so that the limits are checked before anything is allocated.
   Format format;
+  JpegCheck jpeg_check = JpegCheck::kComplete;
   long long width = 0;
   long long height = 0;
   image_detail::NetpbmHeader netpbm;
@@ -517,14 +520,17 @@ GreyImage read_image(const std::string& path, const ImageReadOptions& options) {
     width = be32(&file[16]);
     height = be32(&file[20]);
   } else {
-    int w = 0;
-    int h = 0;
-    int channels = 0;
-    if (!stbi_info_from_memory(file.data(), file_size, &w, &h, &channels)) fail_not_an_image(path);
     format = is_png(file) ? Format::kPng
              : is_jpeg(file) ? Format::kJpeg
              : is_bmp(file)  ? Format::kBmp
                              : Format::kTga;
+    // stbi_info already parses the JPEG tables, so the unsafe ones must be refused before.
+    if (format == Format::kJpeg) jpeg_check = check_jpeg(file);
+    if (jpeg_check == JpegCheck::kUnsafe) fail_not_an_image(path);
+    int w = 0;
+    int h = 0;
+    int channels = 0;
+    if (!stbi_info_from_memory(file.data(), file_size, &w, &h, &channels)) fail_not_an_image(path);
     width = w;
     height = h;
   }
@@ -581,7 +587,7 @@ GreyImage read_image(const std::string& path, const ImageReadOptions& options) {
 
   std::vector<std::uint8_t> cleaned_png;
   if ((format == Format::kPng && !png_is_complete(file, &cleaned_png)) ||
-      (format == Format::kJpeg && !jpeg_is_complete_and_safe(file)) ||
+      (format == Format::kJpeg && jpeg_check != JpegCheck::kComplete) ||
       (format == Format::kBmp && !bmp_is_complete(file)) ||
       (format == Format::kTga && !tga_is_complete(file))) {
     fail_not_an_image(path);
