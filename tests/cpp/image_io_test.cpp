@@ -688,6 +688,16 @@ TEST_F(ImageIoTest, JpegWithOverfullHuffmanTableIsRefused) {
   error_of(path("dht.jpg"));
 }
 
+TEST_F(ImageIoTest, RunLengthBmpGetsItsOwnMessage) {
+  // 2 x 1, 8-bit palette, BI_RLE8: a header is enough to be told what is wrong.
+  std::string bmp = "BM" + std::string(4, '\0') + std::string(4, '\0') + std::string("\x3e\0\0\0", 4);
+  bmp += std::string("\x28\0\0\0", 4) + std::string("\x02\0\0\0\x01\0\0\0", 8);
+  bmp += std::string("\x01\0\x08\0", 4) + std::string("\x01\0\0\0", 4) + std::string(20, '\0');
+  bmp += std::string(8, '\0') + std::string("\x02\x00\x00\x01", 4);
+  write("rle.bmp", bmp);
+  EXPECT_NE(error_of(path("rle.bmp")).find("run-length compressed BMP"), std::string::npos);
+}
+
 TEST_F(ImageIoTest, ZeroByZeroImage) {
   write("zero.pgm", "P5 0 0 255\n");
   EXPECT_EQ(error_of(path("zero.pgm")), "'" + path("zero.pgm") + "' is 0 x 0 pixels");

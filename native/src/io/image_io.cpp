@@ -524,6 +524,12 @@ GreyImage read_image(const std::string& path, const ImageReadOptions& options) {
              : is_jpeg(file) ? Format::kJpeg
              : is_bmp(file)  ? Format::kBmp
                              : Format::kTga;
+    // stb reads no run-length compressed BMP (ImageMagick writes them for grey images).
+    if (format == Format::kBmp && file.size() >= 34 && le32(&file[14]) >= 40 &&
+        (le32(&file[30]) == 1 || le32(&file[30]) == 2)) {
+      fail(quoted(path) + " is a run-length compressed BMP, which is not supported (save it "
+           "uncompressed or as PNG)");
+    }
     // stbi_info already parses the JPEG tables, so the unsafe ones must be refused before.
     if (format == Format::kJpeg) jpeg_check = check_jpeg(file);
     if (jpeg_check == JpegCheck::kUnsafe) fail_not_an_image(path);
