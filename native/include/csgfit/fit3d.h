@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <string>
 
 #include "csgfit/decompose3d.h"
 #include "csgfit/fit.h"
@@ -41,5 +42,15 @@ struct FitResult3D {
 FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
                        const ProgressCallback& progress = nullptr,
                        const std::atomic<bool>* cancel = nullptr);
+
+/// The fit as JSON: schema "csgfit/1" with "dimension": 3 (lengths in the mesh's units):
+/// {"schema", "dimension": 3, "units", "source", "grid": {"nx", "ny", "nz", "origin": [x, y, z],
+/// "voxel_size"}, "tree", "stats"}. Operator nodes as in 2D ({"op", "children"}); a primitive is
+/// {"type", "center": [x, y, z], "rotation": [w, x, y, z] (unit quaternion, local -> model),
+/// "euler_deg": [a, b, c] (OpenSCAD rotate()), then its dimensions: box "size": [x, y, z];
+/// sphere "r"; cylinder "r", "h"; cone "r1" (bottom, local z = -h/2), "r2", "h"; ellipsoid
+/// "radii": [rx, ry, rz]; torus "R", "r"; prism "w", "h", "depth", "apex"}. Throws
+/// InputError for a non-finite value.
+std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source);
 
 }  // namespace csgfit

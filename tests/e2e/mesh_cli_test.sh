@@ -1,0 +1,89 @@
+#!/bin/bash
+# `csgfit mesh` end to end: a box-minus-cylinder part written here as an STL, fitted, the .scad
+# rendered by OpenSCAD and compared with the input by volume IoU on a voxel grid computed
+# independently of the solver (scripts/stl_voxelize.py); then bad inputs.
+# Usage: mesh_cli_test.sh CSGFIT_CLI SOURCE_DIR
+set -u
+CLI=${1:?path to csgfit}
+SRC=${2:?source directory}
+PY=/usr/bin/python3
+fail() { echo "FAIL: $*"; exit 1; }
+if ! command -v openscad >/dev/null 2>&1; then
+  echo "SKIP: openscad is not installed"
+  exit 0
+fi
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+cd "$WORK" || exit 1
+
+# A 40 x 30 x 12 block with a through hole of radius 7, as a closed, outward-oriented mesh.
+$PY - <<'PYEOF' || fail "could not write the test mesh"
+import math
+W, H, Z, R = 20.0, 15.0, 12.0, 7.0
+corners = [math.atan2(H, W), math.atan2(H, -W), math.atan2(-H, -W), math.atan2(-H, W)]
+angles = sorted(set([2 * math.pi * i / 48 - math.pi for i in range(48)] + corners))
+def square(t):
+    c, s = math.cos(t), math.sin(t)
+    f = min(W / abs(c) if abs(c) > 1e-12 else 1e30, H / abs(s) if abs(s) > 1e-12 else 1e30)
+    return (c * f, s * f)
+def circle(t):
+    return (R * math.cos(t), R * math.sin(t))
+tris = []
+n = len(angles)
+for i in range(n):
+    a, b = angles[i], angles[(i + 1) % n]
+    s0, s1, c0, c1 = square(a), square(b), circle(a), circle(b)
+    # top (z = Z, normal +z) and bottom (z = 0, normal -z) annulus pieces
+    tris += [((c0, Z), (s0, Z), (s1, Z)), ((c0, Z), (s1, Z), (c1, Z))]
+    tris += [((c0, 0), (s1, 0), (s0, 0)), ((c0, 0), (c1, 0), (s1, 0))]
+    # outer wall (normal outward) and hole wall (normal toward the axis)
+    tris += [((s0, 0), (s1, 0), (s1, Z)), ((s0, 0), (s1, Z), (s0, Z))]
+    tris += [((c0, 0), (c1, Z), (c1, 0)), ((c0, 0), (c0, Z), (c1, Z))]
+with open("part.stl", "w") as f:
+    f.write("solid part\n")
+    for t in tris:
+        f.write(" facet normal 0 0 0\n  outer loop\n")
+        for (x, y), z in t:
+            f.write("   vertex %.9g %.9g %.9g\n" % (x, y, z))
+        f.write("  endloop\n endfacet\n")
+    f.write("endsolid part\n")
+PYEOF
+
+"$CLI" mesh part.stl -o part.scad --time 5 --threads 1 --seed 1 -q || fail "csgfit mesh exited $?"
+[ -s part.scad ] || fail "no .scad written"
+"$CLI" mesh part.stl -o part.json --time 2 --threads 1 -q || fail "csgfit mesh (.json) exited $?"
+$PY - <<'PYEOF' || fail "bad JSON"
+import json
+d = json.load(open("part.json"))
+assert d["schema"] == "csgfit/1" and d["dimension"] == 3, d.get("dimension")
+assert d["stats"]["primitives"] >= 1 and d["stats"]["iou"] > 0.9, d["stats"]
+assert "op" in d["tree"] or "type" in d["tree"]
+PYEOF
+
+openscad -o fitted.stl part.scad >openscad.log 2>&1 || { cat openscad.log; fail "OpenSCAD could not render the .scad"; }
+GRID="--grid 96 76 36 --origin -24 -19 -3 --size 0.5"
+$PY "$SRC/scripts/stl_voxelize.py" part.stl $GRID --out input.npy >/dev/null || fail "voxelising the input failed"
+OUT=$($PY "$SRC/scripts/stl_voxelize.py" fitted.stl $GRID --compare input.npy --min-agreement 0) \
+  || fail "voxelising the rendering failed: $OUT"
+IOU=$(echo "$OUT" | sed -n 's/.*IoU \([0-9.]*\).*/\1/p')
+echo "rendered .scad vs input mesh: $OUT"
+$PY -c "import sys; sys.exit(0 if float('$IOU') >= 0.95 else 1)" || fail "IoU $IOU < 0.95"
+
+# Bad inputs: exit 2, one line on stderr, no output file.
+check_bad() {
+  local what=$1 input=$2
+  rm -f bad.scad
+  "$CLI" mesh "$input" -o bad.scad --time 1 -q 2>err.txt
+  local rc=$?
+  [ $rc -eq 2 ] || fail "$what: exit $rc, expected 2"
+  [ "$(wc -l <err.txt)" -eq 1 ] || { cat err.txt; fail "$what: expected one line on stderr"; }
+  [ ! -e bad.scad ] || fail "$what: an output file was written"
+  echo "$what: $(cat err.txt)"
+}
+check_bad "missing file" "$WORK/does_not_exist.stl"
+: >empty.stl
+check_bad "empty file" empty.stl
+printf 'this is not an STL file at all\n\x01\x02\x03 garbage\n' >garbage.stl
+check_bad "garbage .stl" garbage.stl
+check_bad "unknown format" part.json
+echo "PASS"
