@@ -226,7 +226,7 @@ std::string ply(const TriangleMesh& m, PlyKind kind, bool quads_cube = false, bo
 
 std::string png_bytes() {
   std::string s = "\x89PNG\r\n\x1a\n";
-  s += std::string("\0\0\0\rIHDR\0\0\0\x10\0\0\0\x10\x08\x00\0\0\0", 25);
+  s += std::string("\0\0\0\rIHDR\0\0\0\x10\0\0\0\x10\x08\x00\0\0\0", 21);
   s.resize(200, '\x11');
   return s;
 }
