@@ -17,9 +17,12 @@
 
 #include "csgfit/error.h"
 #include "csgfit/fit.h"
+#include "csgfit/fit3d.h"
 #include "csgfit/image_io.h"
 #include "csgfit/json_io.h"
+#include "csgfit/mesh_io.h"
 #include "scad_writer.h"
+#include "scad_writer3d.h"
 
 namespace fs = std::filesystem;
 using namespace csgfit;
@@ -213,6 +216,27 @@ int main(int argc, char** argv) {
   renderer->add_option("input", rd_in, "csgfit .json result")->required();
   renderer->add_option("-o,--output", rd_out, "PNG")->required();
 
+  // csgfit mesh: a triangle mesh or voxel grid to a 3D CSG tree
+  std::string mesh_in, mesh_out, mesh_primitives = "box,sphere,cylinder,cone,ellipsoid,prism";
+  double mesh_time = 30, mesh_k = -1;
+  int mesh_resolution = 96, mesh_threads = 0, mesh_fn = 64;
+  std::uint64_t mesh_seed = 1;
+  bool mesh_quiet = false;
+  CLI::App* mesher = app.add_subcommand("mesh", "fit a 3D CSG tree to a mesh or voxel grid");
+  mesher->add_option("input", mesh_in, "STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid")->required();
+  mesher->add_option("-o,--output", mesh_out, "output: .scad or .json")->required();
+  mesher->add_option("--resolution", mesh_resolution, "voxels along the longest side of a mesh")
+      ->check(CLI::Range(8, 512));
+  mesher->add_option("--time", mesh_time, "time budget in seconds")->check(CLI::PositiveNumber);
+  mesher->add_option("--seed", mesh_seed, "random seed: same seed and threads, same tree");
+  mesher->add_option("--threads", mesh_threads, "worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+  mesher->add_option("--k", mesh_k, "size weight per primitive in voxels (default: 100 per million grid voxels)")
+      ->check(CLI::NonNegativeNumber);
+  mesher->add_option("--primitives", mesh_primitives,
+                     "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism (or all)");
+  mesher->add_option("--fn", mesh_fn, "OpenSCAD $fn for round primitives")->check(CLI::Range(3, 1000));
+  mesher->add_flag("-q,--quiet", mesh_quiet, "no progress bar, warnings or summary");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -235,6 +259,63 @@ int main(int argc, char** argv) {
       ModelFrame frame;
       FitResult result = from_json(read_text_file(ex_in), &frame);
       write_result(result, frame, ex_out, fn);
+      return 0;
+    }
+    if (*mesher) {
+      const std::string ext = lower_extension(mesh_out);
+      if (ext != ".scad" && ext != ".json")
+        throw InputError("unknown output format '" + (ext.empty() ? mesh_out : ext) +
+                         "' for a mesh (expected .scad or .json)");
+      check_writable(mesh_out);
+      FitOptions3D options;
+      try {
+        options.primitives = PrimitiveSet3D::parse(mesh_primitives);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(std::string("--primitives: ") + e.what());
+      }
+      options.k = mesh_k;
+      options.time_limit = mesh_time;
+      options.threads = mesh_threads;
+      options.seed = mesh_seed;
+      VoxelGrid target;
+      if (is_voxel_path(mesh_in)) {
+        target = read_voxels(mesh_in);
+      } else if (is_mesh_path(mesh_in)) {
+        const TriangleMesh mesh = read_mesh(mesh_in);
+        const std::string problems = describe_mesh_problems(analyze_mesh(mesh));
+        if (!problems.empty() && !mesh_quiet) std::cerr << "csgfit: warning: " << problems << "\n";
+        VoxelizeOptions vopt;
+        vopt.resolution = mesh_resolution;
+        target = voxelize(mesh, vopt);
+      } else {
+        throw InputError("unknown input format '" + mesh_in +
+                         "' (expected .stl, .obj, .off, .ply, .npy or .binvox)");
+      }
+      if (target.empty() || target.count() == 0)
+        throw InputError("no solid found in '" + mesh_in + "' (no voxel is inside it)");
+
+      ProgressBar bar(!mesh_quiet);
+      const FitResult3D result =
+          fit_voxels(target, options, [&](const FitProgress& p) { return bar.update(p); });
+      bar.finish();
+      const std::string source = fs::path(mesh_in).filename().string();
+      if (ext == ".scad") {
+        ScadOptions3D scad;
+        scad.fn = mesh_fn;
+        scad.source = source;
+        char summary[160];
+        std::snprintf(summary, sizeof summary, "IoU %.4f on a %d x %d x %d grid of %g, %zu primitives",
+                      result.stats.iou, target.nx(), target.ny(), target.nz(), target.voxel_size(),
+                      result.stats.primitives);
+        scad.summary = summary;
+        write_file_atomic(mesh_out, to_scad(result.tree, scad));
+      } else {
+        write_file_atomic(mesh_out, to_json3d(result, target, source));
+      }
+      if (!mesh_quiet)
+        std::fprintf(stderr, "csgfit: IoU %.4f, %zu primitives, %zu trees, %zu evaluations, %.2f s (%s)\n",
+                     result.stats.iou, result.stats.primitives, result.stats.trees,
+                     result.stats.evaluations, result.stats.seconds, result.stats.stop_reason.c_str());
       return 0;
     }
     if (*renderer) {
