@@ -600,6 +600,12 @@ class LineReader {
     return false;
   }
   long long line_number() const { return line_no_; }
+  // Whether another line with content follows.
+  bool more() const {
+    LineReader copy = *this;
+    std::string_view l;
+    return copy.next(&l);
+  }
 
  private:
   Cursor c_;
@@ -694,7 +700,10 @@ TriangleMesh read_off(const std::string& path, const std::string& d, const MeshR
     for (unsigned long long k = 0; k < n; ++k) {
       unsigned long long index;
       const std::string_view it = take_token(&line);
-      if (it.empty()) fail(quoted(path) + " " + where() + ": a face lists fewer indices than its count");
+      if (it.empty()) {
+        if (!lines.more()) fail(quoted(path) + " is truncated (its last face is cut short)");
+        fail(quoted(path) + " " + where() + ": a face lists fewer indices than its count");
+      }
       if (!parse_count(it, &index)) fail(quoted(path) + " " + where() + ": bad face index '" + std::string(it) + "'");
       if (index >= nv) {
         fail(quoted(path) + " " + where() + ": face index " + std::to_string(index) +
