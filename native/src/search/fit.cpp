@@ -29,12 +29,7 @@ SearchParams SearchParams::paper() {
   p.added_size_mean = 3;
   p.added_size_sd = 1.5;
   p.local_iterations = 80;
-  p.p_rep = 0.3;
-  p.p_add = 0.3;
-  p.p_cut = 0.3;
-  p.p_mod = 0.1;
   p.seed_with_decomposition = false;
-  p.residual_targeting = false;
   return p;
 }
 
@@ -105,8 +100,8 @@ struct Problem {
   double k = 25;
   SearchParams params;
   std::vector<PrimitiveKind> kinds;
-  std::vector<DistancePeak> shape_peaks;       // of the target (paper's ADD for unions)
-  std::vector<DistancePeak> background_peaks;  // of the complement (paper's ADD for differences)
+  std::vector<DistancePeak> shape_peaks;       // of the target: where ADD puts unions
+  std::vector<DistancePeak> background_peaks;  // of the complement: where ADD puts cuts
   LocalOptOptions new_leaf_opt, all_leaf_opt;
 };
 
@@ -179,16 +174,7 @@ class Island {
   // ADD: a small subtree at maxima of a distance map, unioned with or subtracted from a subtree.
   bool add_targeted(Node& tree, std::vector<Primitive>& fresh) {
     const bool as_union = rng_() & 1;
-    std::vector<DistancePeak> peaks;
-    if (pb_.params.residual_targeting) {
-      // Beyond the paper: aim at what the current tree gets wrong, not at the bitmap itself.
-      const Bitmap raster = render(tree, pb_.target->width(), pb_.target->height());
-      Bitmap residual = as_union ? *pb_.target : raster;
-      residual.subtract(as_union ? raster : *pb_.target);
-      peaks = distance_peaks(residual, 1.0, 24);
-    } else {
-      peaks = as_union ? pb_.shape_peaks : pb_.background_peaks;
-    }
+    const std::vector<DistancePeak>& peaks = as_union ? pb_.shape_peaks : pb_.background_peaks;
     if (peaks.empty()) return false;
     const int count = norm_count(rng_, pb_.params.added_size_mean, pb_.params.added_size_sd);
     Node added;
@@ -324,10 +310,8 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
   pb.all_leaf_opt.max_sweeps = 3;
   pb.all_leaf_opt.initial_step = 0.5;
   pb.all_leaf_opt.min_step = 0.25;
-  if (!pb.params.residual_targeting) {
-    pb.shape_peaks = distance_peaks(target, 1.0, 64);
-    pb.background_peaks = distance_peaks(target.inverted(), 1.0, 64);
-  }
+  pb.shape_peaks = distance_peaks(target, 1.0, 64);
+  pb.background_peaks = distance_peaks(target.inverted(), 1.0, 64);
 
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(hw);
