@@ -51,6 +51,9 @@ struct DecomposeOptions3D {
   double k = 100;       ///< size weight: a part is kept when it scores better than its voxels
   int max_depth = 12;   ///< recursion bound (the split heuristic alone already bounds it)
   int connectivity = 6; ///< of solid regions; holes use dual_connectivity() of it
+  /// Seconds after which only seed 003's own steps are taken (the matched-primitive
+  /// refinement, which roughly doubles the work, is skipped); <= 0: no limit.
+  double time_limit = 0;
 };
 
 /// The seed-003 tree of `target`: union over the solid's components of
@@ -59,7 +62,9 @@ struct DecomposeOptions3D {
 /// may also be left out (it costs its voxels). Sub-regions of no more than k voxels are left
 /// out. Where a sub-region's box equals its parent's (seed 003, Figure 15) it is split in two
 /// perpendicular to its longest side and the halves are solved separately, so every recursion
-/// shrinks a box and the algorithm always terminates. Boxes must be allowed. Throws
+/// shrinks a box and the algorithm always terminates. Beyond the seed, a matched primitive
+/// that is not exact is also tried with its own errors decomposed (primitive minus the
+/// sub-regions it covers wrongly, plus those it misses), which keeps rotated parts rotated. Boxes must be allowed. Throws
 /// std::invalid_argument if the target is empty.
 Node3D decompose3d(const VoxelGrid& target, const DecomposeOptions3D& options);
 

@@ -42,6 +42,7 @@ struct Candidate {
   Mismatch mismatch;
   std::size_t primitives = 0;
   double score = std::numeric_limits<double>::infinity();
+  VoxelGrid result;  // the tree's voxels, for the residual
 };
 
 // Half-extents of a primitive in its local frame: what MOD and REP keep when changing its kind.
@@ -105,33 +106,41 @@ class Island {
   Candidate current;
   std::size_t trees = 0, evaluations = 0, stale = 0;
 
+  // Optimises the fresh leaves (all leaves when polish_all) and scores the tree. Pruning is
+  // left to finish(): most perturbations are rejected, and for those it would be wasted.
   Candidate evaluate(Node3D tree, const std::vector<Primitive3D>& fresh, bool polish_all) {
     Candidate c;
     if (!simplify(tree)) return c;
-    {
-      TreeEvaluator3D ev(*pb_.target, tree);
-      std::vector<std::size_t> idx;
-      for (std::size_t i = 0; i < ev.leaf_count() && !fresh.empty(); ++i)
-        if (std::find(fresh.begin(), fresh.end(), ev.leaf(i)) != fresh.end()) idx.push_back(i);
-      if (!idx.empty()) optimize_leaves(ev, pb_.new_leaf_opt, idx);
-      if (polish_all) optimize_leaves(ev, pb_.all_leaf_opt);
-      evaluations += ev.evaluations();
-    }
-    prune(tree, *pb_.target, pb_.k);
     TreeEvaluator3D ev(*pb_.target, tree);
-    evaluations += ev.evaluations() + tree.primitive_count();
+    std::vector<std::size_t> idx;
+    for (std::size_t i = 0; i < ev.leaf_count() && !fresh.empty(); ++i)
+      if (std::find(fresh.begin(), fresh.end(), ev.leaf(i)) != fresh.end()) idx.push_back(i);
+    if (!idx.empty()) optimize_leaves(ev, pb_.new_leaf_opt, idx);
+    if (polish_all) optimize_leaves(ev, pb_.all_leaf_opt);
+    evaluations += ev.evaluations();
     c.mismatch = ev.mismatch();
     c.primitives = tree.primitive_count();
     c.score = score(c.mismatch, c.primitives, pb_.k);
+    c.result = ev.result();
     c.tree = std::move(tree);
     return c;
   }
 
+  // Prunes an accepted tree and rescores it.
+  void finish(Candidate& c) {
+    if (prune(c.tree, *pb_.target, pb_.k) == 0) return;
+    TreeEvaluator3D ev(*pb_.target, c.tree);
+    evaluations += ev.evaluations() + c.tree.primitive_count();
+    c.mismatch = ev.mismatch();
+    c.primitives = c.tree.primitive_count();
+    c.score = score(c.mismatch, c.primitives, pb_.k);
+    c.result = ev.result();
+  }
+
   // ADD at the residual: the thick part (one erosion removes the one-voxel skins a slightly
   // misplaced primitive leaves) of what the tree gets wrong, matched by seed 003's matcher.
-  bool add_at_residual(Node3D& tree, std::vector<Primitive3D>& fresh) {
+  bool add_at_residual(Node3D& tree, const VoxelGrid& raster, std::vector<Primitive3D>& fresh) {
     const bool as_union = rng_() & 1;
-    const VoxelGrid raster = render(tree, *pb_.target);
     VoxelGrid residual = as_union ? *pb_.target : raster;
     residual.subtract(as_union ? raster : *pb_.target);
     std::vector<Region3D> comps = connected_regions3d(erode6(residual), 6);
@@ -203,7 +212,7 @@ class Island {
     std::vector<Primitive3D> fresh;
     const double r = uniform(rng_, 0, 1);
     bool done = false;
-    if (r < 0.5) done = add_at_residual(tree, fresh);
+    if (r < 0.5) done = add_at_residual(tree, parent.result, fresh);
     else if (r < 0.7) done = cut(tree);
     else if (r < 0.85) done = change_kind(tree, fresh, false);
     if (!done) done = change_kind(tree, fresh, true);
@@ -217,6 +226,7 @@ class Island {
       if (should_stop()) return;
       Candidate child = perturb(current);
       if (child.score < current.score - 1e-9) {
+        finish(child);
         current = std::move(child);
         stale = 0;
       } else {
@@ -257,9 +267,11 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
 
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::atomic<bool> stop_now{false};
+  // The search stops early enough for the final polish, which costs about what the seed's did.
+  double search_limit = options.time_limit;
   auto should_stop = [&] {
     if (stop_now.load(std::memory_order_relaxed)) return true;
-    if ((cancel && cancel->load(std::memory_order_relaxed)) || elapsed() >= options.time_limit) {
+    if ((cancel && cancel->load(std::memory_order_relaxed)) || elapsed() >= search_limit) {
       stop_now = true;
       return true;
     }
@@ -281,17 +293,22 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     dopt.primitives = options.primitives;
     dopt.primitives.bits &= PrimitiveSet3D::matchable().bits;
     dopt.k = pb.k;
+    dopt.time_limit = 0.3 * options.time_limit;
     Node3D seed_tree = decompose3d(target, dopt);
     LocalOptOptions3D polish;
     polish.max_sweeps = 20;
     polish.initial_step = 1.0;
     polish.min_step = 0.25;
+    const double polish_start = elapsed();
     {
       TreeEvaluator3D ev(target, seed_tree);
       optimize_leaves(ev, polish);
       evaluations += ev.evaluations();
     }
+    search_limit = std::max(0.5 * options.time_limit,
+                            options.time_limit - 2.0 * (elapsed() - polish_start));
     best = isles[0].evaluate(std::move(seed_tree), {}, false);
+    isles[0].finish(best);
   }
   for (Island& isle : isles) isle.current = best;
 
@@ -333,12 +350,12 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
       p.evaluations = evals;
       if (!progress(p)) stop_now = true;
     }
-    const bool cancelled = (cancel && cancel->load()) || (stop_now && elapsed() < options.time_limit);
+    const bool cancelled = (cancel && cancel->load()) || (stop_now && elapsed() < search_limit);
     if (cancelled) {
       stop_reason = "cancelled";
       break;
     }
-    if (stop_now || elapsed() >= options.time_limit) {
+    if (stop_now || elapsed() >= search_limit) {
       stop_reason = "time";
       break;
     }
@@ -376,7 +393,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     prune(tree, target, pb.k);
     TreeEvaluator3D ev(target, tree);
     evaluations += ev.evaluations();
-    Candidate polished{tree, ev.mismatch(), tree.primitive_count(), 0};
+    Candidate polished{tree, ev.mismatch(), tree.primitive_count(), 0, VoxelGrid()};
     polished.score = score(polished.mismatch, polished.primitives, pb.k);
     if (polished.score <= best.score) best = std::move(polished);
   }

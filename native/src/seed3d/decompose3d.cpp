@@ -1,6 +1,7 @@
 #include "csgfit/decompose3d.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -263,9 +264,18 @@ Node3D union_of(std::vector<Node3D> parts) {
 
 class Decomposer3D {
  public:
-  explicit Decomposer3D(const DecomposeOptions3D& options) : options_(options) {}
+  explicit Decomposer3D(const DecomposeOptions3D& options)
+      : options_(options), start_(std::chrono::steady_clock::now()) {}
 
-  Solved solve(const Region3D& region, int connectivity, int depth) {
+  bool out_of_time() const {
+    return options_.time_limit > 0 &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >
+               options_.time_limit;
+  }
+
+  // allow_refine: also try the matched primitive with its own errors decomposed (off below
+  // such a step, which keeps the work linear in the depth).
+  Solved solve(const Region3D& region, int connectivity, int depth, bool allow_refine = true) {
     Solved best = dropped(region);
     if (static_cast<double>(region.volume) <= options_.k) return best;
     if (auto match = match_region3d(region.mask, options_.primitives)) {
@@ -273,6 +283,12 @@ class Decomposer3D {
       if (s < best.score) best = {Node3D::leaf(match->primitive), s, false};
       // A perfect match cannot be beaten by a decomposition, which uses at least the box.
       if (match->mismatch == 0) return best;
+      if (allow_refine && depth < options_.max_depth && !out_of_time() &&
+          static_cast<double>(match->mismatch) < 0.5 * static_cast<double>(region.volume) &&
+          static_cast<double>(match->mismatch) > options_.k) {
+        Solved refined = solve_matched(region, match->primitive, connectivity, depth, best.score);
+        if (refined.score < best.score) best = std::move(refined);
+      }
     }
     if (!options_.primitives.has(PrimitiveKind3D::Box) || depth >= options_.max_depth) return best;
 
@@ -297,7 +313,8 @@ class Decomposer3D {
       const bool same_box = sub.lo[0] == 0 && sub.lo[1] == 0 && sub.lo[2] == 0 &&
                             sub.hi[0] == g.nx() - 1 && sub.hi[1] == g.ny() - 1 &&
                             sub.hi[2] == g.nz() - 1;
-      Solved part = same_box ? solve_split(sub, dual, depth + 1) : solve(sub, dual, depth + 1);
+      Solved part = same_box ? solve_split(sub, dual, depth + 1, allow_refine)
+                             : solve(sub, dual, depth + 1, allow_refine);
       s += part.score;
       if (s >= best.score) return best;  // already worse: stop early
       if (!part.dropped) parts.push_back(std::move(part.tree));
@@ -319,7 +336,7 @@ class Decomposer3D {
   // The heuristic of seed 003 for a region as large as its parent's box: divide it
   // perpendicular to its longest side and solve the halves' components on their own (each has
   // a strictly smaller box); the whole region may still be matched by one primitive.
-  Solved solve_split(const Region3D& region, int connectivity, int depth) {
+  Solved solve_split(const Region3D& region, int connectivity, int depth, bool allow_refine) {
     Solved best = dropped(region);
     if (static_cast<double>(region.volume) <= options_.k) return best;
     if (auto match = match_region3d(region.mask, options_.primitives)) {
@@ -339,7 +356,7 @@ class Decomposer3D {
       else lo[axis] = n[axis] / 2;
       const VoxelGrid piece = crop(g, lo, hi, 0);
       for (const Region3D& sub : connected_regions3d(piece, connectivity)) {
-        Solved part = solve(sub, connectivity, depth + 1);
+        Solved part = solve(sub, connectivity, depth + 1, allow_refine);
         s += part.score;
         if (s >= best.score) return best;
         if (!part.dropped) parts.push_back(std::move(part.tree));
@@ -350,7 +367,47 @@ class Decomposer3D {
     return best;
   }
 
+  // Beyond seed 003, which only ever subtracts from the bounding box: the matched primitive
+  // minus the regions it covers wrongly, plus the regions it misses. A rotated plate with
+  // holes is then a rotated box minus cylinders, not its axis-aligned box minus corner wedges.
+  // Every piece has fewer voxels than the region (the match's mismatch is under half of it).
+  Solved solve_matched(const Region3D& region, const Primitive3D& p, int connectivity, int depth,
+                       double bound) {
+    Solved out = dropped(region);
+    out.score = bound;
+    const VoxelGrid& g = region.mask;
+    const int lo[3] = {0, 0, 0}, hi[3] = {g.nx() - 1, g.ny() - 1, g.nz() - 1};
+    const VoxelGrid r = crop(g, lo, hi, 2);
+    VoxelGrid excess(r.nx(), r.ny(), r.nz(), r.origin_x(), r.origin_y(), r.origin_z(), r.voxel_size());
+    rasterize(p, excess);
+    VoxelGrid missed = r;
+    missed.subtract(excess);
+    excess.subtract(r);
+    double s = options_.k;
+    std::vector<Node3D> minus{Node3D::leaf(p)}, plus;
+    for (const Region3D& sub : connected_regions3d(excess, dual_connectivity(connectivity))) {
+      Solved part = solve(sub, dual_connectivity(connectivity), depth + 1, false);
+      s += part.score;
+      if (s >= bound) return out;
+      if (!part.dropped) minus.push_back(std::move(part.tree));
+    }
+    for (const Region3D& sub : connected_regions3d(missed, connectivity)) {
+      Solved part = solve(sub, connectivity, depth + 1, false);
+      s += part.score;
+      if (s >= bound) return out;
+      if (!part.dropped) plus.push_back(std::move(part.tree));
+    }
+    Node3D tree = minus.size() == 1 ? std::move(minus.front())
+                                    : Node3D::op(NodeKind::Difference, std::move(minus));
+    if (!plus.empty()) {
+      plus.insert(plus.begin(), std::move(tree));
+      tree = Node3D::op(NodeKind::Union, std::move(plus));
+    }
+    return {std::move(tree), s, false};
+  }
+
   const DecomposeOptions3D& options_;
+  std::chrono::steady_clock::time_point start_;
 };
 
 }  // namespace
