@@ -219,14 +219,16 @@ int main(int argc, char** argv) {
   // csgfit mesh: a triangle mesh or voxel grid to a 3D CSG tree
   std::string mesh_in, mesh_out, mesh_primitives = "box,sphere,cylinder,cone,ellipsoid,prism";
   double mesh_time = 30, mesh_k = -1;
-  int mesh_resolution = 96, mesh_threads = 0, mesh_fn = 64;
+  int mesh_resolution = 0, mesh_threads = 0, mesh_fn = 64;
   std::uint64_t mesh_seed = 1;
   bool mesh_quiet = false;
   CLI::App* mesher = app.add_subcommand("mesh", "fit a 3D CSG tree to a mesh or voxel grid");
   mesher->add_option("input", mesh_in, "STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid")->required();
   mesher->add_option("-o,--output", mesh_out, "output: .scad or .json")->required();
-  mesher->add_option("--resolution", mesh_resolution, "voxels along the longest side of a mesh")
-      ->check(CLI::Range(8, 512));
+  mesher->add_option("--resolution", mesh_resolution,
+                     "voxels along the longest side of a mesh (0 = auto: as many voxels as 96^3 fill "
+                     "the bounding box, 96 to 224 along the longest side)")
+      ->check(CLI::Range(0, 512));
   mesher->add_option("--time", mesh_time, "time budget in seconds")->check(CLI::PositiveNumber);
   mesher->add_option("--seed", mesh_seed, "random seed: same seed and threads, same tree");
   mesher->add_option("--threads", mesh_threads, "worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
@@ -282,10 +284,23 @@ int main(int argc, char** argv) {
         target = read_voxels(mesh_in);
       } else if (is_mesh_path(mesh_in)) {
         const TriangleMesh mesh = read_mesh(mesh_in);
-        const std::string problems = describe_mesh_problems(analyze_mesh(mesh));
+        const MeshReport report = analyze_mesh(mesh);
+        const std::string problems = describe_mesh_problems(report);
         if (!problems.empty() && !mesh_quiet) std::cerr << "csgfit: warning: " << problems << "\n";
         VoxelizeOptions vopt;
         vopt.resolution = mesh_resolution;
+        if (mesh_resolution == 0) {
+          // Thin parts need more voxels along their longest side to resolve their thin
+          // dimensions: keep the box's voxel count near 96^3 instead.
+          double extent[3], longest = 0;
+          for (int a = 0; a < 3; ++a) {
+            extent[a] = report.bbox_max[a] - report.bbox_min[a];
+            longest = std::max(longest, extent[a]);
+          }
+          double fill = 1;
+          for (double e : extent) fill *= std::max(e, longest / 64) / std::max(longest, 1e-300);
+          vopt.resolution = static_cast<int>(std::clamp(std::round(96 / std::cbrt(fill)), 96.0, 224.0));
+        }
         target = voxelize(mesh, vopt);
       } else {
         throw InputError("unknown input format '" + mesh_in +
