@@ -226,8 +226,9 @@ int main(int argc, char** argv) {
   mesher->add_option("input", mesh_in, "STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid")->required();
   mesher->add_option("-o,--output", mesh_out, "output: .scad or .json")->required();
   mesher->add_option("--resolution", mesh_resolution,
-                     "voxels along the longest side of a mesh (0 = auto: as many voxels as 96^3 fill "
-                     "the bounding box, 96 to 224 along the longest side)")
+                     "voxels along the longest side of a mesh (0 = auto: about 11 voxels across the "
+                     "part's mean wall thickness, at least 96 along the longest side, at most 256 and "
+                     "160^3 voxels in all)")
       ->check(CLI::Range(0, 512));
   mesher->add_option("--time", mesh_time, "time budget in seconds")->check(CLI::PositiveNumber);
   mesher->add_option("--seed", mesh_seed, "random seed: same seed and threads, same tree");
@@ -290,8 +291,11 @@ int main(int argc, char** argv) {
         VoxelizeOptions vopt;
         vopt.resolution = mesh_resolution;
         if (mesh_resolution == 0) {
-          // Thin parts need more voxels along their longest side to resolve their thin
-          // dimensions: keep the box's voxel count near 96^3 instead.
+          // A voxel fit is exact only to half a voxel per face, so the voxels must be small
+          // against the part's walls: about 11 across its mean thickness 2V/A (a plate of
+          // thickness t has 2V/A = t), and at least the voxels of 96 along the longest side
+          // (more for thin, elongated boxes: as many as 96^3 fill the box), within 256 along
+          // the longest side and 160^3 voxels in all.
           double extent[3], longest = 0;
           for (int a = 0; a < 3; ++a) {
             extent[a] = report.bbox_max[a] - report.bbox_min[a];
@@ -299,7 +303,16 @@ int main(int argc, char** argv) {
           }
           double fill = 1;
           for (double e : extent) fill *= std::max(e, longest / 64) / std::max(longest, 1e-300);
-          vopt.resolution = static_cast<int>(std::clamp(std::round(96 / std::cbrt(fill)), 96.0, 224.0));
+          double h = longest / std::clamp(std::round(96 / std::cbrt(fill)), 96.0, 224.0);
+          const double volume = std::fabs(report.signed_volume);
+          if (report.surface_area > 0 && volume > 0)
+            h = std::min(h, 2 * volume / report.surface_area / 11);
+          h = std::max(h, longest / 256);
+          double cells = 1;
+          for (double e : extent) cells *= std::max(e, h) / h;
+          const double max_cells = 160.0 * 160.0 * 160.0;
+          if (cells > max_cells) h *= std::cbrt(cells / max_cells);
+          if (std::isfinite(h) && h > 0) vopt.voxel_size = h;
         }
         target = voxelize(mesh, vopt);
       } else {
