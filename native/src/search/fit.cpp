@@ -15,6 +15,7 @@
 #include "csgfit/features.h"
 #include "csgfit/greedy.h"
 #include "csgfit/local_opt.h"
+#include "search/random.h"
 
 namespace csgfit {
 
@@ -57,27 +58,12 @@ double default_k(int width, int height) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using Rng = std::mt19937_64;
-
-std::uint64_t splitmix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-double uniform(Rng& rng, double lo, double hi) {
-  return lo + (hi - lo) * (static_cast<double>(rng() >> 11) * 0x1.0p-53);
-}
-double normal(Rng& rng, double mean, double sd) {
-  // Box-Muller on our own uniforms: std::normal_distribution differs between libraries.
-  const double u1 = std::max(uniform(rng, 0, 1), 1e-300), u2 = uniform(rng, 0, 1);
-  return mean + sd * std::sqrt(-2 * std::log(u1)) * std::cos(2 * 3.14159265358979323846 * u2);
-}
-std::size_t pick(Rng& rng, std::size_t n) { return static_cast<std::size_t>(rng() % n); }
-int norm_count(Rng& rng, double mean, double sd) {
-  return std::max(1, static_cast<int>(std::lround(normal(rng, mean, sd))));
-}
+using search::normal;
+using search::norm_count;
+using search::pick;
+using search::Rng;
+using search::splitmix;
+using search::uniform;
 
 struct Candidate {
   Node tree;

@@ -13,6 +13,7 @@
 #include "csgfit/evaluator3d.h"
 #include "csgfit/features3d.h"
 #include "csgfit/local_opt3d.h"
+#include "search/random.h"
 
 namespace csgfit {
 
@@ -24,18 +25,10 @@ double default_k3d(const VoxelGrid& target) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using Rng = std::mt19937_64;
-
-std::uint64_t splitmix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-double uniform(Rng& rng, double lo, double hi) {
-  return lo + (hi - lo) * (static_cast<double>(rng() >> 11) * 0x1.0p-53);
-}
-std::size_t pick(Rng& rng, std::size_t n) { return static_cast<std::size_t>(rng() % n); }
+using search::pick;
+using search::Rng;
+using search::splitmix;
+using search::uniform;
 
 struct Candidate {
   Node3D tree;
