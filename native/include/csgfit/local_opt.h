@@ -2,6 +2,8 @@
 // its dimensions and its orientation while the mismatch with the target improves.
 #pragma once
 
+#include <chrono>
+
 #include <cstddef>
 #include <vector>
 
@@ -15,6 +17,8 @@ struct LocalOptOptions {
   double min_step = 0.125;    ///< a primitive is settled when its step falls below this
   bool move_angles = true;    ///< false: orientation and triangle apex stay as they are
   bool move_sizes = true;     ///< false: only positions move
+  /// The optimiser stops at the next primitive once this time has passed (budgeted searches).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 /// Pattern search on the parameters of the given leaves (all leaves when `leaf_indices` is

@@ -1,6 +1,8 @@
 // The seed-000 local optimiser and pruning for 3D trees (the 3D twin of local_opt.h).
 #pragma once
 
+#include <chrono>
+
 #include <cstddef>
 #include <vector>
 
@@ -15,6 +17,8 @@ struct LocalOptOptions3D {
   double min_step = 0.125;     ///< a primitive is settled when its step falls below this
   bool move_rotation = true;   ///< false: orientation (and a prism's apex) stay as they are
   bool move_sizes = true;      ///< false: only positions move
+  /// The optimiser stops at the next primitive once this time has passed (budgeted searches).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 /// Pattern search on the parameters of the given leaves (all leaves when `leaf_indices` is

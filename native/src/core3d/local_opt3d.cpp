@@ -97,6 +97,7 @@ std::size_t optimize_leaves(TreeEvaluator3D& ev, const LocalOptOptions3D& option
     for (std::size_t li = 0; li < leaf_indices.size(); ++li) {
       double& step = steps[li];
       if (step < min_step) continue;
+      if (std::chrono::steady_clock::now() >= options.deadline) return accepted;
       active = true;
       const std::size_t leaf = leaf_indices[li];
       Param params[10];

@@ -296,6 +296,12 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
   pb.all_leaf_opt.max_sweeps = 3;
   pb.all_leaf_opt.initial_step = 0.5;
   pb.all_leaf_opt.min_step = 0.25;
+  // --time bounds the wall time: no single tree's optimisation may run past it.
+  const auto at_fraction = [&](double f) {
+    return start + std::chrono::duration_cast<Clock::duration>(
+                       std::chrono::duration<double>(f * options.time_limit));
+  };
+  pb.new_leaf_opt.deadline = pb.all_leaf_opt.deadline = at_fraction(1.0);
   pb.shape_peaks = distance_peaks(target, 1.0, 64);
   pb.background_peaks = distance_peaks(target.inverted(), 1.0, 64);
 
@@ -332,6 +338,7 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
     polish.max_sweeps = pb.params.local_iterations;
     polish.initial_step = 1.0;
     polish.min_step = 0.125;
+    polish.deadline = at_fraction(0.5);
     {
       TreeEvaluator ev(target, seed_tree);
       optimize_leaves(ev, polish);
@@ -465,6 +472,7 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
     polish.max_sweeps = pb.params.local_iterations;
     polish.initial_step = 0.5;
     polish.min_step = 1.0 / 32;
+    polish.deadline = at_fraction(1.05);  // a little grace: it makes the numbers clean
     Node tree = best.tree;
     {
       TreeEvaluator ev(target, tree);

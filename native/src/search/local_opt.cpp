@@ -60,6 +60,7 @@ std::size_t optimize_leaves(TreeEvaluator& ev, const LocalOptOptions& options,
     for (std::size_t li = 0; li < leaf_indices.size(); ++li) {
       double& step = steps[li];
       if (step < options.min_step) continue;
+      if (std::chrono::steady_clock::now() >= options.deadline) return accepted;
       active = true;
       const std::size_t leaf = leaf_indices[li];
       Param params[6];

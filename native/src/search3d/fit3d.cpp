@@ -257,6 +257,10 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
   pb.all_leaf_opt.max_sweeps = 2;
   pb.all_leaf_opt.initial_step = 0.5;
   pb.all_leaf_opt.min_step = 0.25;
+  // --time bounds the wall time: no single tree's optimisation may run past it.
+  const auto budget_end =
+      start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.time_limit));
+  pb.new_leaf_opt.deadline = pb.all_leaf_opt.deadline = budget_end;
 
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::atomic<bool> stop_now{false};
@@ -292,6 +296,8 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     polish.max_sweeps = 20;
     polish.initial_step = 1.0;
     polish.min_step = 0.25;
+    polish.deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(0.6 * options.time_limit));
     const double polish_start = elapsed();
     {
       TreeEvaluator3D ev(target, seed_tree);
@@ -377,6 +383,9 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     polish.max_sweeps = 20;
     polish.initial_step = 0.5;
     polish.min_step = 1.0 / 16;
+    // A little grace past the budget: the polish is what makes the best tree's numbers clean.
+    polish.deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(1.05 * options.time_limit));
     Node3D tree = best.tree;
     {
       TreeEvaluator3D ev(target, tree);
