@@ -278,6 +278,9 @@ class Decomposer3D {
   Solved solve(const Region3D& region, int connectivity, int depth, bool allow_refine = true) {
     Solved best = dropped(region);
     if (static_cast<double>(region.volume) <= options_.k) return best;
+    // Past its share of the time, a region gets its box or nothing: no matching, no recursion,
+    // so the decomposition still ends with a valid tree, and soon.
+    if (out_of_time()) return box_or_dropped(region);
     if (auto match = match_region3d(region.mask, options_.primitives)) {
       const double s = static_cast<double>(match->mismatch) + options_.k;
       if (s < best.score) best = {Node3D::leaf(match->primitive), s, false};
@@ -326,6 +329,22 @@ class Decomposer3D {
   }
 
  private:
+  Solved box_or_dropped(const Region3D& region) const {
+    Solved best = dropped(region);
+    if (!options_.primitives.has(PrimitiveKind3D::Box)) return best;
+    const VoxelGrid& g = region.mask;  // cropped to the region's box
+    const double box_voxels = static_cast<double>(g.nx()) * g.ny() * g.nz();
+    const double s = box_voxels - static_cast<double>(region.volume) + options_.k;
+    if (s >= best.score) return best;
+    const double vs = g.voxel_size();
+    best = {Node3D::leaf(Primitive3D::box(g.origin_x() + 0.5 * g.nx() * vs,
+                                          g.origin_y() + 0.5 * g.ny() * vs,
+                                          g.origin_z() + 0.5 * g.nz() * vs, g.nx() * vs,
+                                          g.ny() * vs, g.nz() * vs)),
+            s, false};
+    return best;
+  }
+
   Solved dropped(const Region3D& region) const {
     Solved d;
     d.dropped = true;
