@@ -142,11 +142,32 @@ TEST(Evaluator3D, CountsEvaluations) {
   Node3D t = random_tree(rng, 2);
   const VoxelGrid target = render(t, kFrame);
   TreeEvaluator3D ev(target, t);
-  EXPECT_EQ(ev.mismatch().total(), 0u);
+  EXPECT_EQ(ev.mismatch().excess + ev.mismatch().uncovered, 0u);
   EXPECT_EQ(ev.evaluations(), 1u);
   ev.try_leaf(0, ev.leaf(0));
   ev.update_leaf(0);
   EXPECT_EQ(ev.evaluations(), 3u);
+}
+
+// A primitive reaching beyond the grid would render where the grid cannot see: the part of the
+// tree's box outside the grid counts as `outside`, exactly for a box, and only for the part of
+// the tree that can add material (not for a subtracted primitive).
+TEST(Evaluator3D, CountsTheTreeBeyondTheGrid) {
+  const VoxelGrid target(20, 20, 20, 0, 0, 0, 1.0);
+  Node3D inside = Node3D::leaf(Primitive3D::box(10, 10, 10, 8, 8, 8));
+  EXPECT_EQ(TreeEvaluator3D(target, inside).mismatch().outside, 0u);
+  // x in [16, 26]: 6 of its 10 units beyond x = 20, over a 4 x 4 section.
+  Node3D poking = Node3D::leaf(Primitive3D::box(21, 10, 10, 10, 4, 4));
+  TreeEvaluator3D ev(target, poking);
+  EXPECT_EQ(ev.mismatch().outside, 6u * 4 * 4);
+  EXPECT_EQ(ev.try_leaf(0, Primitive3D::box(10, 10, 10, 4, 4, 4)).outside, 0u);
+  Node3D cut = Node3D::op(NodeKind::Difference, {Node3D::leaf(Primitive3D::box(10, 10, 10, 8, 8, 8)),
+                                                 Node3D::leaf(Primitive3D::box(21, 10, 10, 10, 4, 4))});
+  EXPECT_EQ(TreeEvaluator3D(target, cut).mismatch().outside, 0u);
+  Node3D clipped = Node3D::op(NodeKind::Intersection,
+                              {Node3D::leaf(Primitive3D::box(10, 10, 10, 8, 8, 8)),
+                               Node3D::leaf(Primitive3D::sphere(10, 10, 10, 40))});
+  EXPECT_EQ(TreeEvaluator3D(target, clipped).mismatch().outside, 0u);
 }
 
 TEST(Tree3D, SimplifyKeepsTheShapeAndFlattens) {

@@ -13,7 +13,10 @@ namespace csgfit {
 struct Mismatch {
   std::size_t excess = 0;     ///< pixels the tree covers that are not in the target
   std::size_t uncovered = 0;  ///< target pixels the tree does not cover
-  std::size_t total() const { return excess + uncovered; }
+  /// 3D only: voxels of the tree's bounding box beyond the grid (see TreeEvaluator3D), an
+  /// excess the grid cannot see.
+  std::size_t outside = 0;
+  std::size_t total() const { return excess + uncovered + outside; }
 };
 
 /// Score of seed 000: excess + uncovered + k x primitives (lower is better).

@@ -16,6 +16,13 @@ namespace csgfit {
 /// that leaf to the root are recomputed (update_leaf), so a local-optimiser step costs one scan
 /// conversion plus a few whole-grid word operations per ancestor. Mismatch counts voxels.
 ///
+/// The grid sees nothing beyond its box, so a tree that reaches out of it would be free there
+/// and yet render there: Mismatch::outside counts, in voxels, the part of the tree's bounding
+/// box (union = hull of the children's boxes, intersection = their overlap, difference = the
+/// first child's box) that lies outside the grid's box. An upper bound of the true outside
+/// volume, zero for every tree that stays in the grid, and growing smoothly as a primitive
+/// moves out, so the optimisers are pushed back in.
+///
 /// The evaluator keeps pointers into `tree`; the tree's shape must not change while an
 /// evaluator refers to it (parameter changes go through update_leaf).
 class TreeEvaluator3D {
@@ -47,17 +54,35 @@ class TreeEvaluator3D {
   std::size_t evaluations() const { return evaluations_; }
 
  private:
+  // A block of x-rows: y indices [j0, j1] by z indices [k0, k1]. A change to one primitive
+  // touches only the rows its old and new bounds cover, so updates cost in proportion to the
+  // primitive's size, not the grid's.
+  struct Rows {
+    int j0 = 0, j1 = -1, k0 = 0, k1 = -1;
+    bool empty() const { return j0 > j1 || k0 > k1; }
+  };
   struct Slot {
     NodeKind kind;
     int parent;
     std::vector<int> children;
     Primitive3D* primitive;
+    Rows rows;  // leaves: the rows their mask may have set
   };
   int build(Node3D& node, int parent);
-  void combine(int slot, VoxelGrid& out, int skip_child = -1,
+  Rows rows_of(const Primitive3D& p) const;
+  Rows all_rows() const;
+  static Rows hull(const Rows& a, const Rows& b);
+  static void clear_rows(VoxelGrid& g, const Rows& r);
+  void combine(int slot, VoxelGrid& out, const Rows& r, int skip_child = -1,
                const VoxelGrid* replacement = nullptr);
-  Mismatch measure(const VoxelGrid& raster) const;
-  const VoxelGrid& propagate_scratch(int slot, const VoxelGrid* mask);
+  Mismatch measure(const VoxelGrid& raster, const Rows& r) const;
+  // The mismatch if the root's rows r were those of changed_root.
+  Mismatch delta(const VoxelGrid& changed_root, const Rows& r) const;
+  const VoxelGrid& propagate_scratch(int slot, const VoxelGrid* mask, const Rows& r);
+  // Voxels of the tree's bounding box outside the grid, with leaf slot `swap` replaced by
+  // `replacement` (or removed when replacement is null); swap = -1 for the tree as it is.
+  std::size_t outside_voxels(int swap, const Primitive3D* replacement) const;
+  bool slot_bounds(int slot, int swap, const Primitive3D* replacement, Bounds3& out) const;
 
   const VoxelGrid& target_;
   std::vector<Slot> slots_;

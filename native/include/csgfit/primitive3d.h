@@ -126,5 +126,8 @@ bool is_axially_symmetric(PrimitiveKind3D kind);
 /// `out` first. Works per x-row (j, k) inside p's bounds, from the analytic x-interval(s) of
 /// p on that line (one for convex kinds, up to two for the torus).
 void rasterize(const Primitive3D& p, VoxelGrid& out);
+/// rasterize() without the clearing: sets p's voxels and leaves every other bit as it was
+/// (the incremental evaluator clears only the rows it is about to redraw).
+void rasterize_into(const Primitive3D& p, VoxelGrid& out);
 
 }  // namespace csgfit

@@ -779,6 +779,10 @@ bool Primitive3D::operator==(const Primitive3D& o) const {
 
 void rasterize(const Primitive3D& p, VoxelGrid& out) {
   out.clear();
+  rasterize_into(p, out);
+}
+
+void rasterize_into(const Primitive3D& p, VoxelGrid& out) {
   if (out.empty()) return;
   const Bounds3 box = p.bounds();
   const double vs = out.voxel_size();

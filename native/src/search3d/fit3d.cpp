@@ -405,12 +405,12 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
   FitStats& s = result.stats;
   s.k = pb.k;
   s.score = best.score;
-  s.excess = best.mismatch.excess;
+  s.excess = best.mismatch.excess + best.mismatch.outside;
   s.uncovered = best.mismatch.uncovered;
   s.primitives = best.primitives;
   const double tc = static_cast<double>(target.count());
   const double inter = tc - static_cast<double>(best.mismatch.uncovered);
-  const double uni = tc + static_cast<double>(best.mismatch.excess);
+  const double uni = tc + static_cast<double>(best.mismatch.excess + best.mismatch.outside);
   s.iou = uni > 0 ? inter / uni : 1.0;
   s.evaluations = evaluations;
   s.trees = all_trees;
