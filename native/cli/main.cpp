@@ -20,6 +20,7 @@
 #include "csgfit/fit3d.h"
 #include "csgfit/image_io.h"
 #include "csgfit/json_io.h"
+#include "csgfit/mesh_fit.h"
 #include "csgfit/mesh_io.h"
 #include "scad_writer.h"
 #include "scad_writer3d.h"
@@ -221,14 +222,14 @@ int main(int argc, char** argv) {
   double mesh_time = 30, mesh_k = -1;
   int mesh_resolution = 0, mesh_threads = 0, mesh_fn = 64;
   std::uint64_t mesh_seed = 1;
-  bool mesh_quiet = false;
+  bool mesh_quiet = false, mesh_no_align = false;
   CLI::App* mesher = app.add_subcommand("mesh", "fit a 3D CSG tree to a mesh or voxel grid");
   mesher->add_option("input", mesh_in, "STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid")->required();
   mesher->add_option("-o,--output", mesh_out, "output: .scad or .json")->required();
   mesher->add_option("--resolution", mesh_resolution,
-                     "voxels along the longest side of a mesh (0 = auto: about 11 voxels across the "
-                     "part's mean wall thickness, at least 96 along the longest side, at most 256 and "
-                     "160^3 voxels in all)")
+                     "voxels along the longest side of a mesh's search grid (0 = auto: a coarse grid "
+                     "of about half a million voxels for the search, then a polish on a fine grid of "
+                     "about 11 voxels across the part's mean wall thickness)")
       ->check(CLI::Range(0, 512));
   mesher->add_option("--time", mesh_time, "time budget in seconds")->check(CLI::PositiveNumber);
   mesher->add_option("--seed", mesh_seed, "random seed: same seed and threads, same tree");
@@ -238,6 +239,8 @@ int main(int argc, char** argv) {
   mesher->add_option("--primitives", mesh_primitives,
                      "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism (or all)");
   mesher->add_option("--fn", mesh_fn, "OpenSCAD $fn for round primitives")->check(CLI::Range(3, 1000));
+  mesher->add_flag("--no-align", mesh_no_align,
+                   "fit along the mesh's own axes (default: along its dominant planar faces)");
   mesher->add_flag("-q,--quiet", mesh_quiet, "no progress bar, warnings or summary");
 
   try {
@@ -280,51 +283,36 @@ int main(int argc, char** argv) {
       options.time_limit = mesh_time;
       options.threads = mesh_threads;
       options.seed = mesh_seed;
-      VoxelGrid target;
+      FitResult3D result;
+      VoxelGrid target;  // the grid the summary's IoU is measured on
+      Quaternion frame;
+      ProgressBar bar(!mesh_quiet);
+      auto on_progress = [&](const FitProgress& p) { return bar.update(p); };
       if (is_voxel_path(mesh_in)) {
         target = read_voxels(mesh_in);
+        if (target.empty() || target.count() == 0)
+          throw InputError("no solid found in '" + mesh_in + "' (no voxel is set)");
+        result = fit_voxels(target, options, on_progress);
       } else if (is_mesh_path(mesh_in)) {
         const TriangleMesh mesh = read_mesh(mesh_in);
-        const MeshReport report = analyze_mesh(mesh);
-        const std::string problems = describe_mesh_problems(report);
+        const std::string problems = describe_mesh_problems(analyze_mesh(mesh));
         if (!problems.empty() && !mesh_quiet) std::cerr << "csgfit: warning: " << problems << "\n";
-        VoxelizeOptions vopt;
-        vopt.resolution = mesh_resolution;
-        if (mesh_resolution == 0) {
-          // A voxel fit is exact only to half a voxel per face, so the voxels must be small
-          // against the part's walls: about 11 across its mean thickness 2V/A (a plate of
-          // thickness t has 2V/A = t), and at least the voxels of 96 along the longest side
-          // (more for thin, elongated boxes: as many as 96^3 fill the box), within 256 along
-          // the longest side and 160^3 voxels in all.
-          double extent[3], longest = 0;
-          for (int a = 0; a < 3; ++a) {
-            extent[a] = report.bbox_max[a] - report.bbox_min[a];
-            longest = std::max(longest, extent[a]);
-          }
-          double fill = 1;
-          for (double e : extent) fill *= std::max(e, longest / 64) / std::max(longest, 1e-300);
-          double h = longest / std::clamp(std::round(96 / std::cbrt(fill)), 96.0, 224.0);
-          const double volume = std::fabs(report.signed_volume);
-          if (report.surface_area > 0 && volume > 0)
-            h = std::min(h, 2 * volume / report.surface_area / 11);
-          h = std::max(h, longest / 256);
-          double cells = 1;
-          for (double e : extent) cells *= std::max(e, h) / h;
-          const double max_cells = 160.0 * 160.0 * 160.0;
-          if (cells > max_cells) h *= std::cbrt(cells / max_cells);
-          if (std::isfinite(h) && h > 0) vopt.voxel_size = h;
+        MeshFitOptions mopt;
+        mopt.resolution = mesh_resolution;
+        mopt.align = !mesh_no_align;
+        MeshFitResult fitted;
+        try {
+          fitted = fit_mesh(mesh, options, mopt, on_progress);
+        } catch (const InputError& e) {
+          throw InputError(std::string(e.what()) + ": '" + mesh_in + "'");
         }
-        target = voxelize(mesh, vopt);
+        result = std::move(fitted.fit);
+        target = std::move(fitted.grid);
+        frame = fitted.frame;
       } else {
         throw InputError("unknown input format '" + mesh_in +
                          "' (expected .stl, .obj, .off, .ply, .npy or .binvox)");
       }
-      if (target.empty() || target.count() == 0)
-        throw InputError("no solid found in '" + mesh_in + "' (no voxel is inside it)");
-
-      ProgressBar bar(!mesh_quiet);
-      const FitResult3D result =
-          fit_voxels(target, options, [&](const FitProgress& p) { return bar.update(p); });
       bar.finish();
       const std::string source = fs::path(mesh_in).filename().string();
       if (ext == ".scad") {
@@ -338,7 +326,7 @@ int main(int argc, char** argv) {
         scad.summary = summary;
         write_file_atomic(mesh_out, to_scad(result.tree, scad));
       } else {
-        write_file_atomic(mesh_out, to_json3d(result, target, source));
+        write_file_atomic(mesh_out, to_json3d(result, target, source, frame));
       }
       if (!mesh_quiet)
         std::fprintf(stderr, "csgfit: IoU %.4f, %zu primitives, %zu trees, %zu evaluations, %.2f s (%s)\n",

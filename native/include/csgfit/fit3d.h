@@ -51,6 +51,9 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
 /// sphere "r"; cylinder "r", "h"; cone "r1" (bottom, local z = -h/2), "r2", "h"; ellipsoid
 /// "radii": [rx, ry, rz]; torus "R", "r"; prism "w", "h", "depth", "apex"}. Throws
 /// InputError for a non-finite value.
-std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source);
+/// `frame` is the rotation of the fitting grid (grid -> mesh coordinates; written as "frame":
+/// [w, x, y, z]); the tree itself is always in mesh coordinates.
+std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
+                      const Quaternion& frame = {});
 
 }  // namespace csgfit

@@ -29,6 +29,32 @@ struct LocalOptOptions3D {
 std::size_t optimize_leaves(TreeEvaluator3D& evaluator, const LocalOptOptions3D& options,
                             std::vector<std::size_t> leaf_indices = {});
 
+/// Settings of refine_to_surface.
+struct SurfaceFitOptions3D {
+  int rounds = 3;              ///< sample re-assignments
+  int iterations = 8;          ///< Levenberg-Marquardt steps per primitive and round
+  double inlier = 1.5;         ///< samples further than this (voxels) from every primitive are ignored
+  /// A refined primitive is kept unless the voxel mismatch grows by more than this many voxels.
+  double voxel_slack = 0;
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+};
+
+/// Least-squares fit of every leaf to the input's surface samples (points on the mesh, in the
+/// evaluator's grid coordinates), so that accuracy is not limited by the voxel size: each
+/// sample goes to the primitive whose surface is nearest (within `inlier` voxels), and each
+/// primitive's parameters (centre, free dimensions, turns, apex) take Levenberg-Marquardt steps
+/// on the sum of its samples' squared signed distances. A refined primitive replaces the old
+/// one only if the voxel mismatch stays within `voxel_slack` of what it was. Returns the
+/// number of primitives changed.
+std::size_t refine_to_surface(TreeEvaluator3D& evaluator, const std::vector<Vec3>& samples,
+                              const SurfaceFitOptions3D& options = {});
+
+/// Snaps to what designers use where it costs at most `voxel_slack` mismatched voxels per
+/// snap: a primitive within 4 degrees of the grid's axes becomes axis-aligned (for cylinders,
+/// cones and tori only their axis counts), and radii of cylinders and spheres within 2 % of
+/// one another become equal. Returns the number of snaps kept.
+std::size_t snap_to_design_values(TreeEvaluator3D& evaluator, double voxel_slack);
+
 /// Removes primitives whose removal costs fewer than k mismatched voxels, one at a time, best
 /// first, then simplifies the tree. Returns the number removed.
 std::size_t prune(Node3D& tree, const VoxelGrid& target, double k);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <functional>
 
+#include "csgfit/features3d.h"
+
 namespace csgfit {
 
 namespace {
@@ -127,6 +129,214 @@ std::size_t optimize_leaves(TreeEvaluator3D& ev, const LocalOptOptions3D& option
     if (!active) break;
   }
   return accepted;
+}
+
+namespace {
+
+// Solves the n x n system a x = b in place by Gaussian elimination with partial pivoting;
+// false when it is singular.
+bool solve(std::vector<double>& a, std::vector<double>& b, int n) {
+  for (int c = 0; c < n; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < n; ++r)
+      if (std::fabs(a[r * n + c]) > std::fabs(a[piv * n + c])) piv = r;
+    if (!(std::fabs(a[piv * n + c]) > 1e-300)) return false;
+    if (piv != c) {
+      for (int k = 0; k < n; ++k) std::swap(a[c * n + k], a[piv * n + k]);
+      std::swap(b[c], b[piv]);
+    }
+    for (int r = c + 1; r < n; ++r) {
+      const double f = a[r * n + c] / a[c * n + c];
+      for (int k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
+      b[r] -= f * b[c];
+    }
+  }
+  for (int c = n - 1; c >= 0; --c) {
+    double v = b[c];
+    for (int k = c + 1; k < n; ++k) v -= a[c * n + k] * b[k];
+    b[c] = v / a[c * n + c];
+  }
+  return true;
+}
+
+double sum_squares(const Primitive3D& p, const std::vector<const Vec3*>& pts) {
+  double s = 0;
+  for (const Vec3* q : pts) {
+    const double d = p.signed_distance((*q)[0], (*q)[1], (*q)[2]);
+    s += d * d;
+  }
+  return s;
+}
+
+// Levenberg-Marquardt on one primitive's parameters against its samples.
+Primitive3D fit_to_points(const Primitive3D& start, const std::vector<const Vec3*>& pts, double voxel,
+                          int iterations) {
+  LocalOptOptions3D all;
+  Param params[10];
+  const int np = params_of(start.kind, all, params);
+  const std::size_t m = pts.size();
+  Primitive3D p = start;
+  double cost = sum_squares(p, pts);
+  double lambda = 1e-3;
+  const double eps = 0.01 * voxel;
+  std::vector<double> r(m), jac(m * static_cast<std::size_t>(np));
+  for (int it = 0; it < iterations && cost > 0; ++it) {
+    for (std::size_t i = 0; i < m; ++i) r[i] = p.signed_distance((*pts[i])[0], (*pts[i])[1], (*pts[i])[2]);
+    for (int j = 0; j < np; ++j) {
+      Primitive3D q = p;
+      move(q, params[j], eps, voxel);
+      q.normalize();
+      for (std::size_t i = 0; i < m; ++i)
+        jac[i * np + j] = (q.signed_distance((*pts[i])[0], (*pts[i])[1], (*pts[i])[2]) - r[i]) / eps;
+    }
+    std::vector<double> jtj(static_cast<std::size_t>(np * np), 0.0), jtr(static_cast<std::size_t>(np), 0.0);
+    for (std::size_t i = 0; i < m; ++i)
+      for (int a = 0; a < np; ++a) {
+        const double ja = jac[i * np + a];
+        if (ja == 0) continue;
+        jtr[a] -= ja * r[i];
+        for (int b = 0; b < np; ++b) jtj[a * np + b] += ja * jac[i * np + b];
+      }
+    bool stepped = false;
+    for (int tries = 0; tries < 6 && !stepped; ++tries) {
+      std::vector<double> a = jtj, b = jtr;
+      for (int d = 0; d < np; ++d) a[d * np + d] += lambda * std::max(jtj[d * np + d], 1e-12);
+      if (!solve(a, b, np)) {
+        lambda *= 10;
+        continue;
+      }
+      Primitive3D q = p;
+      // Steps of at most two voxels per parameter: the linearisation holds no further.
+      for (int j = 0; j < np; ++j) move(q, params[j], std::clamp(b[j], -2 * voxel, 2 * voxel), voxel);
+      q.normalize();
+      const double c = sum_squares(q, pts);
+      if (c < cost) {
+        p = q;
+        stepped = cost - c > 1e-9 * cost;
+        cost = c;
+        lambda = std::max(lambda / 3, 1e-9);
+        if (!stepped) return p;
+      } else {
+        lambda *= 4;
+      }
+    }
+    if (!stepped) break;
+  }
+  return p;
+}
+
+// Kinds with one radius (dims[0]) that designers repeat: drills, bosses, balls.
+bool is_round(PrimitiveKind3D k) {
+  return k == PrimitiveKind3D::Cylinder || k == PrimitiveKind3D::Sphere;
+}
+
+}  // namespace
+
+std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samples,
+                              const SurfaceFitOptions3D& options) {
+  const double voxel = ev.target().voxel_size();
+  const std::size_t n = ev.leaf_count();
+  std::size_t changed = 0;
+  if (n == 0 || samples.empty()) return 0;
+  for (int round = 0; round < options.rounds; ++round) {
+    std::vector<std::vector<const Vec3*>> assigned(n);
+    const double limit = options.inlier * voxel;
+    for (const Vec3& s : samples) {
+      std::size_t best = n;
+      double best_d = limit;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double d = std::fabs(ev.leaf(i).signed_distance(s[0], s[1], s[2]));
+        if (d < best_d) {
+          best_d = d;
+          best = i;
+        }
+      }
+      if (best < n) assigned[best].push_back(&s);
+    }
+    std::size_t round_changes = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (std::chrono::steady_clock::now() >= options.deadline) return changed;
+      Param params[10];
+      const int np = params_of(ev.leaf(i).kind, LocalOptOptions3D{}, params);
+      if (assigned[i].size() < static_cast<std::size_t>(3 * np)) continue;
+      const Primitive3D refined = fit_to_points(ev.leaf(i), assigned[i], voxel, options.iterations);
+      if (refined == ev.leaf(i)) continue;
+      const Mismatch m = ev.try_leaf(i, refined);
+      if (static_cast<double>(m.total()) > static_cast<double>(ev.mismatch().total()) + options.voxel_slack)
+        continue;
+      ev.leaf(i) = refined;
+      ev.update_leaf(i);
+      ++round_changes;
+    }
+    changed += round_changes;
+    if (round_changes == 0) break;
+  }
+  return changed;
+}
+
+std::size_t snap_to_design_values(TreeEvaluator3D& ev, double voxel_slack) {
+  std::size_t kept = 0;
+  auto attempt = [&](std::size_t i, const Primitive3D& p) {
+    if (p == ev.leaf(i)) return false;
+    const Mismatch m = ev.try_leaf(i, p);
+    if (static_cast<double>(m.total()) > static_cast<double>(ev.mismatch().total()) + voxel_slack)
+      return false;
+    ev.leaf(i) = p;
+    ev.update_leaf(i);
+    ++kept;
+    return true;
+  };
+  const double tol = std::cos(4.0 / kRadToDeg);
+  for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+    const Primitive3D& p = ev.leaf(i);
+    if (p.kind == PrimitiveKind3D::Sphere || p.rotation.is_identity()) continue;
+    const Mat3 r = p.rotation.matrix();
+    Primitive3D snapped = p;
+    if (is_axially_symmetric(p.kind)) {
+      // Only the axis (local z, column 2) matters: point it along the nearest model axis.
+      int axis = 0;
+      for (int a = 1; a < 3; ++a)
+        if (std::fabs(r[a][2]) > std::fabs(r[axis][2])) axis = a;
+      if (std::fabs(r[axis][2]) < tol) continue;
+      const double sign = r[axis][2] > 0 ? 1.0 : -1.0;
+      // A cone's direction matters (r1 at the bottom): keep the sign.
+      if (axis == 2) snapped.rotation = sign > 0 ? Quaternion{} : Quaternion::from_axis_angle(1, 0, 0, 180);
+      else if (axis == 0) snapped.rotation = Quaternion::from_axis_angle(0, 1, 0, 90 * sign);
+      else snapped.rotation = Quaternion::from_axis_angle(1, 0, 0, -90 * sign);
+    } else {
+      // Every local axis near a signed model axis: round the matrix to that permutation.
+      Mat3 m{};
+      bool ok = true;
+      for (int c = 0; c < 3 && ok; ++c) {
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+          if (std::fabs(r[a][c]) > std::fabs(r[axis][c])) axis = a;
+        ok = std::fabs(r[axis][c]) >= tol;
+        m[axis][c] = r[axis][c] > 0 ? 1.0 : -1.0;
+      }
+      if (!ok) continue;
+      snapped.rotation = quaternion_from_matrix(m);
+    }
+    snapped.normalize();
+    attempt(i, snapped);
+  }
+  // Equal radii: each round primitive's radius joins the first earlier one within 2 %.
+  for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+    const Primitive3D& p = ev.leaf(i);
+    if (!is_round(p.kind)) continue;
+    for (std::size_t j = 0; j < i; ++j) {
+      const Primitive3D& q = ev.leaf(j);
+      if (!is_round(q.kind)) continue;
+      const double a = p.dims[0], b = q.dims[0];
+      if (!(std::fabs(a - b) <= 0.02 * std::max(a, b)) || a == b) continue;
+      Primitive3D snapped = p;
+      snapped.dims[0] = b;
+      if (p.kind == PrimitiveKind3D::Sphere || p.kind == PrimitiveKind3D::Cylinder) snapped.dims[1] = b;
+      if (p.kind == PrimitiveKind3D::Sphere) snapped.dims[2] = b;
+      if (attempt(i, snapped)) break;
+    }
+  }
+  return kept;
 }
 
 std::size_t prune(Node3D& tree, const VoxelGrid& target, double k) {

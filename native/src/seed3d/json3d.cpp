@@ -54,7 +54,8 @@ ojson number_or_null(double v) { return std::isfinite(v) ? ojson(v) : ojson(null
 
 }  // namespace
 
-std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source) {
+std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
+                      const Quaternion& frame) {
   const FitStats& st = result.stats;
   ojson doc;
   doc["schema"] = "csgfit/1";
@@ -65,7 +66,8 @@ std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const st
                      {"ny", grid.ny()},
                      {"nz", grid.nz()},
                      {"origin", {grid.origin_x(), grid.origin_y(), grid.origin_z()}},
-                     {"voxel_size", grid.voxel_size()}};
+                     {"voxel_size", grid.voxel_size()},
+                     {"frame", {frame.w, frame.x, frame.y, frame.z}}};
   doc["tree"] = node3d_to_json(result.tree, "tree");
   doc["stats"] = ojson{{"k", number_or_null(st.k)},
                        {"score", number_or_null(st.score)},

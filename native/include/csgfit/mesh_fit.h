@@ -1,0 +1,62 @@
+// Triangle mesh -> 3D CSG tree: the steps between a mesh file and fit_voxels that every front
+// end (CLI, Python, FreeCAD) shares: the fitting frame, the voxel sizes, the coarse search and
+// the fine polish, and the tree back in the mesh's own coordinates.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "csgfit/fit3d.h"
+#include "csgfit/mesh_io.h"
+
+namespace csgfit {
+
+/// How a mesh is turned into voxels for the fit.
+struct MeshFitOptions {
+  /// Voxels along the longest side of the search grid; 0 = auto (about half a million voxels
+  /// over the part's box, never coarser than 64 along its longest side).
+  int resolution = 0;
+  /// Fit in the mesh's dominant frame (see dominant_frame) rather than its own axes.
+  bool align = true;
+  /// Re-optimise the searched tree's parameters on a finer grid (about 11 voxels across the
+  /// part's mean wall thickness) for this share of the time budget; 0 = no fine polish.
+  double polish_share = 0.15;
+};
+
+/// A mesh fit: the tree in the mesh's coordinates and how it was obtained.
+struct MeshFitResult {
+  FitResult3D fit;     ///< tree in mesh coordinates; stats measured on `grid`
+  VoxelGrid grid;      ///< the finest grid the tree was scored on, in the fitting frame
+  Quaternion frame;    ///< fitting frame -> mesh coordinates (identity when not aligned)
+  MeshReport report;   ///< diagnostics of the input mesh
+  double search_voxel_size = 0;
+};
+
+/// The rotation that takes the axes of the mesh's dominant orthogonal frame onto the model
+/// axes' nearest signed permutation, i.e. frame -> mesh: the directions with the most planar
+/// face area (area-weighted normals within 2 degrees of one another), the second orthogonal
+/// to the first, the third their cross product. The identity when the mesh's own axes hold at
+/// least 90 % as much aligned face area (an axis-aligned part stays as drawn) or when there is
+/// no planar face to go by (spheres, tori).
+Quaternion dominant_frame(const TriangleMesh& mesh);
+
+/// Voxel edge for a fine fit of a mesh: about 11 voxels across its mean thickness 2V/A, at
+/// least 96 and at most 256 along the longest side, at most 160^3 voxels in all.
+double fine_voxel_size(const MeshReport& report);
+
+/// Fits a CSG tree to a closed (or nearly closed) mesh. Throws InputError when the mesh holds
+/// no solid, std::invalid_argument for bad options; honours progress and cancel as fit_voxels.
+MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
+                       const MeshFitOptions& mesh_options = {},
+                       const ProgressCallback& progress = nullptr,
+                       const std::atomic<bool>* cancel = nullptr);
+
+/// `count` points spread over the mesh's surface in proportion to area (the same for the same
+/// seed): the samples the final least-squares refinement fits to.
+std::vector<Vec3> surface_samples(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed);
+
+/// Rotates every primitive of the tree by q about the origin (centres and orientations).
+void rotate_tree(Node3D& tree, const Quaternion& q);
+
+}  // namespace csgfit

@@ -1,0 +1,125 @@
+// The mesh-to-tree steps around the voxel search: the fitting frame, the least-squares
+// refinement against surface samples, the snaps, and a whole fit of a turned part.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+#include "csgfit/evaluator3d.h"
+#include "csgfit/local_opt3d.h"
+#include "csgfit/mesh_fit.h"
+#include "csgfit/voxel_grid.h"
+
+namespace csgfit {
+namespace {
+
+// Box [lo, hi] as 12 outward triangles, turned by q about the origin.
+TriangleMesh turned_box(std::array<double, 3> lo, std::array<double, 3> hi, const Quaternion& q = {}) {
+  static const int kTriangles[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6},
+                                        {0, 1, 5}, {0, 5, 4}, {2, 6, 7}, {2, 7, 3},
+                                        {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  const Mat3 m = q.matrix();
+  TriangleMesh mesh;
+  for (int v = 0; v < 8; ++v) {
+    const double p[3] = {(v & 1) ? hi[0] : lo[0], (v & 2) ? hi[1] : lo[1], (v & 4) ? hi[2] : lo[2]};
+    mesh.vertices.push_back({m[0][0] * p[0] + m[0][1] * p[1] + m[0][2] * p[2],
+                             m[1][0] * p[0] + m[1][1] * p[1] + m[1][2] * p[2],
+                             m[2][0] * p[0] + m[2][1] * p[1] + m[2][2] * p[2]});
+  }
+  for (const auto& t : kTriangles) mesh.triangles.push_back({t[0], t[1], t[2]});
+  return mesh;
+}
+
+// Angle in degrees between two rotations' local axes, ignoring which axis is which: the
+// largest angle between a column of a and its best-matching signed column of b.
+double frame_difference_deg(const Quaternion& a, const Quaternion& b) {
+  const Mat3 ma = a.matrix(), mb = b.matrix();
+  double worst = 0;
+  for (int i = 0; i < 3; ++i) {
+    double best = 0;
+    for (int j = 0; j < 3; ++j) {
+      double c = 0;
+      for (int r = 0; r < 3; ++r) c += ma[r][i] * mb[r][j];
+      best = std::max(best, std::fabs(c));
+    }
+    worst = std::max(worst, std::acos(std::min(1.0, best)) * 180 / 3.14159265358979323846);
+  }
+  return worst;
+}
+
+TEST(DominantFrame, AxisAlignedPartsKeepTheirAxes) {
+  EXPECT_TRUE(dominant_frame(turned_box({0, 0, 0}, {4, 2, 1})).is_identity());
+}
+
+TEST(DominantFrame, FindsTheFacesOfATurnedPart) {
+  const Quaternion q = Quaternion::from_euler_deg(2, 4, 25);
+  const Quaternion f = dominant_frame(turned_box({0, 0, 0}, {4, 2, 1}, q));
+  EXPECT_FALSE(f.is_identity());
+  EXPECT_LT(frame_difference_deg(f, q), 0.01);
+}
+
+TEST(RefineToSurface, MovesPrimitivesBetweenVoxelCentres) {
+  // A box whose faces lie 0.3 voxel off the voxel centres: the voxels cannot tell it from a
+  // box 0.3 voxel smaller, the surface samples can.
+  const VoxelGrid frame(24, 24, 24, 0, 0, 0, 1.0);
+  const Primitive3D truth = Primitive3D::box(12.1, 11.9, 12.0, 10.6, 8.6, 9.4);
+  VoxelGrid target = frame;
+  rasterize(truth, target);
+  Node3D tree = Node3D::leaf(Primitive3D::box(12.0, 12.0, 12.0, 10.0, 8.0, 9.0));
+  TreeEvaluator3D ev(target, tree);
+  const std::size_t before = ev.mismatch().total();
+  const TriangleMesh mesh = turned_box({12.1 - 5.3, 11.9 - 4.3, 12.0 - 4.7}, {12.1 + 5.3, 11.9 + 4.3, 12.0 + 4.7});
+  EXPECT_EQ(refine_to_surface(ev, surface_samples(mesh, 4000, 1)), 1u);
+  EXPECT_LE(ev.mismatch().total(), before);
+  const Primitive3D& p = ev.leaf(0);
+  EXPECT_NEAR(p.cx, truth.cx, 0.02);
+  EXPECT_NEAR(p.cy, truth.cy, 0.02);
+  EXPECT_NEAR(p.cz, truth.cz, 0.02);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(p.dims[a], truth.dims[a], 0.04) << a;
+  EXPECT_TRUE(p.rotation.is_identity(1e-6) || frame_difference_deg(p.rotation, {}) < 0.05);
+}
+
+TEST(SnapToDesignValues, SquaresUpNearlyAlignedPrimitivesAndEqualisesRadii) {
+  const VoxelGrid frame(40, 40, 40, 0, 0, 0, 1.0);
+  VoxelGrid target = frame;
+  rasterize(Primitive3D::box(20, 20, 20, 16, 12, 10), target);
+  Node3D tree = Node3D::op(NodeKind::Difference,
+                           {Node3D::leaf(Primitive3D::box(20, 20, 20, 16, 12, 10,
+                                                          Quaternion::from_euler_deg(1, -1.5, 2))),
+                            Node3D::leaf(Primitive3D::cylinder(14, 20, 20, 2.0, 12)),
+                            Node3D::leaf(Primitive3D::cylinder(26, 20, 20, 2.03, 12,
+                                                               Quaternion::from_euler_deg(0, 3, 0)))});
+  TreeEvaluator3D ev(target, tree);
+  EXPECT_GE(snap_to_design_values(ev, 1e9), 3u);
+  EXPECT_TRUE(ev.leaf(0).rotation.is_identity(1e-9));
+  EXPECT_TRUE(ev.leaf(2).rotation.is_identity(1e-9));
+  EXPECT_EQ(ev.leaf(2).dims[0], ev.leaf(1).dims[0]);
+  // With no slack a snap that costs voxels is refused.
+  Node3D costly = Node3D::leaf(Primitive3D::box(20, 20, 20, 30, 4, 4, Quaternion::from_euler_deg(0, 0, 3)));
+  TreeEvaluator3D ev2(target, costly);
+  const std::size_t before = ev2.mismatch().total();
+  snap_to_design_values(ev2, 0);
+  EXPECT_LE(ev2.mismatch().total(), before);
+}
+
+TEST(FitMesh, ATurnedBlockIsOneBoxInItsOwnFrame) {
+  // The tests end by convergence, not the clock: the budget is generous for such a part.
+  const Quaternion q = Quaternion::from_euler_deg(10, 20, 30);
+  const TriangleMesh block = turned_box({0, 0, 0}, {32, 20, 12}, q);
+  FitOptions3D options;
+  options.time_limit = 60;
+  options.threads = 1;
+  options.max_stale = 200;
+  const MeshFitResult r = fit_mesh(block, options);
+  EXPECT_LT(frame_difference_deg(r.frame, q), 0.01);
+  EXPECT_EQ(r.fit.tree.primitive_count(), 1u);
+  ASSERT_TRUE(r.fit.tree.is_leaf());
+  const Primitive3D& p = r.fit.tree.primitive;
+  EXPECT_NEAR(p.volume(), 32.0 * 20 * 12, 0.01 * 32 * 20 * 12);
+  EXPECT_GT(r.fit.stats.iou, 0.99);
+  // The box's own axes are the block's edges.
+  EXPECT_LT(frame_difference_deg(p.rotation, q), 0.5);
+}
+
+}  // namespace
+}  // namespace csgfit
