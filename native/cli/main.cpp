@@ -224,7 +224,7 @@ int main(int argc, char** argv) {
   bool mesh_quiet = false;
   CLI::App* mesher = app.add_subcommand("mesh", "fit a 3D CSG tree to a mesh or voxel grid");
   mesher->add_option("input", mesh_in, "STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid")->required();
-  mesher->add_option("-o,--output", mesh_out, "output: .scad or .json")->required();
+  mesher->add_option("-o,--output", mesh_out, "output: .scad, .json or .FCStd")->required();
   mesher->add_option("--resolution", mesh_resolution,
                      "voxels along the longest side of a mesh (0 = auto: about 11 voxels across the "
                      "part's mean wall thickness, at least 96 along the longest side, at most 256 and "
@@ -266,9 +266,9 @@ int main(int argc, char** argv) {
     }
     if (*mesher) {
       const std::string ext = lower_extension(mesh_out);
-      if (ext != ".scad" && ext != ".json")
+      if (ext != ".scad" && ext != ".json" && ext != ".fcstd")
         throw InputError("unknown output format '" + (ext.empty() ? mesh_out : ext) +
-                         "' for a mesh (expected .scad or .json)");
+                         "' for a mesh (expected .scad, .json or .FCStd)");
       check_writable(mesh_out);
       FitOptions3D options;
       try {
@@ -290,30 +290,7 @@ int main(int argc, char** argv) {
         if (!problems.empty() && !mesh_quiet) std::cerr << "csgfit: warning: " << problems << "\n";
         VoxelizeOptions vopt;
         vopt.resolution = mesh_resolution;
-        if (mesh_resolution == 0) {
-          // A voxel fit is exact only to half a voxel per face, so the voxels must be small
-          // against the part's walls: about 11 across its mean thickness 2V/A (a plate of
-          // thickness t has 2V/A = t), and at least the voxels of 96 along the longest side
-          // (more for thin, elongated boxes: as many as 96^3 fill the box), within 256 along
-          // the longest side and 160^3 voxels in all.
-          double extent[3], longest = 0;
-          for (int a = 0; a < 3; ++a) {
-            extent[a] = report.bbox_max[a] - report.bbox_min[a];
-            longest = std::max(longest, extent[a]);
-          }
-          double fill = 1;
-          for (double e : extent) fill *= std::max(e, longest / 64) / std::max(longest, 1e-300);
-          double h = longest / std::clamp(std::round(96 / std::cbrt(fill)), 96.0, 224.0);
-          const double volume = std::fabs(report.signed_volume);
-          if (report.surface_area > 0 && volume > 0)
-            h = std::min(h, 2 * volume / report.surface_area / 11);
-          h = std::max(h, longest / 256);
-          double cells = 1;
-          for (double e : extent) cells *= std::max(e, h) / h;
-          const double max_cells = 160.0 * 160.0 * 160.0;
-          if (cells > max_cells) h *= std::cbrt(cells / max_cells);
-          if (std::isfinite(h) && h > 0) vopt.voxel_size = h;
-        }
+        if (mesh_resolution == 0) vopt.voxel_size = auto_voxel_size(report);
         target = voxelize(mesh, vopt);
       } else {
         throw InputError("unknown input format '" + mesh_in +
@@ -337,6 +314,8 @@ int main(int argc, char** argv) {
                       result.stats.primitives);
         scad.summary = summary;
         write_file_atomic(mesh_out, to_scad(result.tree, scad));
+      } else if (ext == ".fcstd") {
+        write_fcstd(to_json3d(result, target, source), mesh_out);
       } else {
         write_file_atomic(mesh_out, to_json3d(result, target, source));
       }
