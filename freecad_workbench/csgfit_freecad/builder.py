@@ -468,6 +468,10 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
     prop("App::PropertyInteger", "CsgFitPrimitives", "Primitives in the tree",
          len(builder.primitives))
     prop("App::PropertyLink", "CsgFitRoot", "The root solid of the tree", root)
+    if dim == 3 and hasattr(source, "to_scad"):
+        # 3D JSON cannot be read back natively yet; Export OpenSCAD writes this text.
+        prop("App::PropertyString", "CsgFitScad", "The fitted tree as OpenSCAD source",
+             source.to_scad())
 
     # Only the root is shown; the inputs of booleans stay hidden as the Part commands do.
     for obj in builder.created:
@@ -482,12 +486,19 @@ def preview_shape(source: Any):
     """The solid the builder would make for `source` (see load_result), without touching any
     open document: the tree is built in a hidden temporary document and its root's shape
     copied out. For previews (the Mesh to CSG panel shows it in the 3D view)."""
+    previous = App.ActiveDocument
     doc = App.newDocument("CSGFitPreview", hidden=True, temp=True)
     try:
         built = build(doc, source, label="preview")
         return built.root.Shape.copy()
     finally:
         App.closeDocument(doc.Name)
+        if previous is not None:  # the new document became the active one
+            App.setActiveDocument(previous.Name)
+            if App.GuiUp:
+                import FreeCADGui
+
+                FreeCADGui.ActiveDocument = FreeCADGui.getDocument(previous.Name)
 
 
 def _hide(obj) -> None:

@@ -1,8 +1,9 @@
 """Headless FreeCAD tests of "Mesh to CSG": the builder's 3D path, a fitted mesh fixture built
 as a parametric tree, and `csgfit mesh -o X.FCStd`.
 
-The fixture (a block with a cylindrical hole through it, and a rotated copy) is made by the test
-with Part and written as STL through FreeCAD's Mesh module, so the mesh volume is known.
+The fixture (a block with a cylindrical hole through it, fchelpers.make_fixture, also turned and
+moved) is made by the test with Part and written as STL through FreeCAD's Mesh module, so the
+mesh volume is known.
 """
 
 import copy
@@ -67,19 +68,6 @@ def doc():
     App.closeDocument(d.Name)
 
 
-def make_fixture(path, placement=None):
-    """A 30 x 20 x 12 block minus a radius-5 cylinder through it (z), as STL; returns the
-    mesh's volume."""
-    block = Part.makeBox(30, 20, 12)
-    hole = Part.makeCylinder(5, 20, App.Vector(19, 10, -4))
-    solid = block.cut(hole)
-    if placement is not None:
-        solid.Placement = placement
-    mesh = Mesh.Mesh(solid.tessellate(0.01))
-    mesh.write(str(path))
-    return mesh.Volume
-
-
 def test_every_3d_kind_is_placed_as_the_solver_defines_it(doc):
     built = builder.build(doc, ALL_KINDS_3D)
     assert builder.check_tree(doc, built.group) == []
@@ -139,7 +127,7 @@ def test_preview_shape_is_the_built_solid_and_leaves_documents_alone(doc):
 
 
 def test_mesh_feature_arrays_keep_global_coordinates(doc, tmp_path):
-    volume = make_fixture(tmp_path / "part.stl")
+    volume = H.make_fixture(tmp_path / "part.stl")
     feature = doc.addObject("Mesh::Feature", "Part")
     feature.Mesh = Mesh.Mesh(str(tmp_path / "part.stl"))
     feature.Placement = App.Placement(App.Vector(100, 0, 0), App.Rotation())
@@ -147,7 +135,7 @@ def test_mesh_feature_arrays_keep_global_coordinates(doc, tmp_path):
     assert mesh_input.is_mesh_object(feature)
     v, t = mesh_input.arrays_from_mesh(feature)
     assert v.shape[1] == 3 and t.shape[1] == 3 and t.max() < len(v)
-    assert v[:, 0].min() == pytest.approx(100.0) and v[:, 0].max() == pytest.approx(130.0)
+    assert v[:, 0].min() == pytest.approx(100.0) and v[:, 0].max() == pytest.approx(132.0)
     # Signed volume by the divergence theorem: the same closed solid.
     a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
     signed = float((a * np.cross(b, c)).sum() / 6)
@@ -163,8 +151,10 @@ def fitted_fixture(tmp_path_factory):
     if not _fit:
         d = tmp_path_factory.mktemp("fixture")
         path = d / "block_with_hole.stl"
-        volume = make_fixture(path)
-        _fit["v"] = (path, volume, csgfit.fit_mesh(str(path), time=20, seed=1, threads=2))
+        volume = H.make_fixture(path)
+        # 64 voxels along the longest side: the search converges in a few seconds.
+        _fit["v"] = (path, volume, csgfit.fit_mesh(str(path), resolution=64, time=30, seed=1,
+                                                   threads=2))
     return _fit["v"]
 
 
@@ -179,13 +169,13 @@ def test_fitted_mesh_builds_a_parametric_solid_of_the_mesh_volume(doc, tmp_path_
         assert obj.TypeId in builder.PARAMETRIC_TYPES, obj.TypeId
     shape = built.root.Shape
     assert shape.isValid() and len(shape.Solids) == 1
-    # The mesh: within a few per cent (the fit is scored on voxels).
-    assert shape.Volume == pytest.approx(mesh_volume, rel=0.03)
+    # The mesh: within the voxels' resolution (see make_fixture).
+    assert shape.Volume == pytest.approx(mesh_volume, rel=0.015)
     # The tree itself, evaluated independently (exactly) and by the solver (its voxels).
     assert shape.Volume == pytest.approx(H.static_shape3d(result.tree).Volume, rel=1e-6)
     assert shape.Volume == pytest.approx(result.volume(), rel=0.01)
     # The hole is a hole: the solid does not contain the cylinder's axis.
-    assert not shape.isInside(App.Vector(19, 10, 6), 1e-6, True)
+    assert not shape.isInside(App.Vector(20, 10, 6), 1e-6, True)
     assert shape.isInside(App.Vector(5, 5, 6), 1e-6, True)
 
 
@@ -203,15 +193,16 @@ def test_cli_mesh_writes_fcstd_that_reopens_and_recomputes(tmp_path):
     _freecadcmd()
     src = tmp_path / "in"
     src.mkdir()
-    turned = App.Placement(App.Vector(3, -2, 1), App.Rotation(App.Vector(0, 0, 1), 30))
-    mesh_volume = make_fixture(src / "turned.stl", turned)
+    # Stood on its side (a quarter turn about x) and moved: faces stay on voxel boundaries.
+    turned = App.Placement(App.Vector(3, -2, 1), App.Rotation(App.Vector(1, 0, 0), 90))
+    mesh_volume = H.make_fixture(src / "turned.stl", turned)
     out_dir = tmp_path / "out"
     out_dir.mkdir()
     out = out_dir / "turned.FCStd"
     env = dict(os.environ, CSGFIT_FCSTD_WRITER=os.path.join(H.WORKBENCH, "csgfit_freecad",
                                                             "fcstd_writer.py"))
-    proc = subprocess.run([cli, "mesh", str(src / "turned.stl"), "-o", str(out), "--time", "10",
-                           "--threads", "2", "-q"], capture_output=True, text=True, timeout=300,
+    proc = subprocess.run([cli, "mesh", str(src / "turned.stl"), "-o", str(out), "--time", "30",
+                           "--resolution", "64", "--threads", "2", "-q"], capture_output=True, text=True, timeout=300,
                           env=env)
     assert proc.returncode == 0, proc.stderr
     assert sorted(os.listdir(out_dir)) == [out.name]  # no temporary left over
@@ -224,7 +215,8 @@ def test_cli_mesh_writes_fcstd_that_reopens_and_recomputes(tmp_path):
         assert len(groups) == 1 and groups[0].CsgFitDimension == 3
         assert builder.check_tree(d, groups[0]) == []
         shape = groups[0].CsgFitRoot.Shape
-        assert shape.Volume == pytest.approx(mesh_volume, rel=0.03)
+        assert shape.Volume == pytest.approx(mesh_volume, rel=0.015)
+        assert shape.BoundBox.ZLength == pytest.approx(20, abs=0.5)  # it stands
         tree = json.loads(groups[0].CsgFitJson)["tree"]
         assert shape.Volume == pytest.approx(H.static_shape3d(tree).Volume, rel=1e-6)
     finally:
