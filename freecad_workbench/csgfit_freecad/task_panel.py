@@ -549,6 +549,7 @@ class MeshToCsgPanel(FitPanel):
     def __init__(self, mesh_object=None, path=None):
         self.mesh_object = mesh_object
         self.overlay = ShapeOverlay()
+        self._mesh_mode = None  # the mesh's display mode while it is shown as wireframe
         self.preview_shape = None
         self.target = None
         self.raster = None
@@ -751,17 +752,33 @@ class MeshToCsgPanel(FitPanel):
     def _show_overlay(self, *_):
         self.overlay.clear()
         if self.preview_shape is None or not self.show_3d.isChecked():
+            self._mesh_as_wireframe(False)
             return
         if Gui.ActiveDocument is None:
             # A file fitted with no document open: the tree will go into a new one anyway.
             App.newDocument(builder._object_name(self.source_name() or "csgfit"))
+        self._mesh_as_wireframe(True)
         if self.overlay.show(self.preview_shape):
             view = Gui.ActiveDocument.ActiveView
             if hasattr(view, "viewIsometric"):
                 view.viewIsometric()
                 view.fitAll()
 
+    def _mesh_as_wireframe(self, on):
+        """The mesh drawn as wireframe while the tree is overlaid (shaded, the coinciding
+        surfaces would z-fight); restored when the preview goes."""
+        vo = getattr(self.mesh_object, "ViewObject", None) if self.mesh_object else None
+        if vo is None or "Wireframe" not in vo.listDisplayModes():
+            return
+        if on and self._mesh_mode is None:
+            self._mesh_mode = vo.DisplayMode
+            vo.DisplayMode = "Wireframe"
+        elif not on and self._mesh_mode is not None:
+            vo.DisplayMode = self._mesh_mode
+            self._mesh_mode = None
+
     def _clear_preview(self):
+        self._mesh_as_wireframe(False)
         self.overlay.clear()
         self.preview_shape = None
         self.target = self.raster = None
@@ -794,3 +811,7 @@ class MeshToCsgPanel(FitPanel):
 
     def _close(self):
         self.overlay.clear()
+        try:
+            self._mesh_as_wireframe(False)
+        except Exception:  # the mesh object was deleted meanwhile
+            pass

@@ -204,6 +204,7 @@ def mesh_scenario():
     report["status"] = panel.status.text()
     report["preview"] = not panel.preview.pixmap().isNull()
     report["overlay"] = panel.overlay.node is not None
+    report["mesh_mode_preview"] = mesh.ViewObject.DisplayMode
     report["iou"] = panel.result.stats.iou
     report["primitives"] = panel.result.stats.primitives
     report["fit_volume"] = panel.result.volume()
@@ -215,6 +216,7 @@ def mesh_scenario():
     report["accepted"] = bool(accepted)
     report["overlay_after_accept"] = panel.overlay.node is not None
     report["mesh_hidden"] = not mesh.ViewObject.Visibility
+    report["mesh_mode_after"] = mesh.ViewObject.DisplayMode
     report["mesh_volume"] = mesh.Mesh.Volume
     group = check_built(doc, builder)
     show_tree(group, builder, "Part::Cylinder")

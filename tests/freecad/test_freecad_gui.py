@@ -86,6 +86,8 @@ def test_mesh_to_csg_through_the_task_panel(tmp_path):
     assert r["iou"] >= 0.97
     assert r["accepted"] and r["dialog_closed"] and not r["overlay_after_accept"]
     assert r["mesh_hidden"]
+    # The mesh is drawn as wireframe under the overlaid tree, and restored afterwards.
+    assert r["mesh_mode_preview"] == "Wireframe" and r["mesh_mode_after"] != "Wireframe"
     assert r["groups"] == ["block_with_hole CSG"]
     assert r["problems"] == [] and r["root_valid"]
     assert set(r["types"]) <= PARAMETRIC and "Part::Box" in r["types"]
