@@ -1,8 +1,9 @@
 """The "Image to CSG" and "Mesh to CSG" task panels.
 
-Both share FitPanel: the fit runs in a worker thread (the native module releases the GIL while it solves); a QTimer
-on the GUI thread polls its progress and result, so every widget and document change happens on
-the GUI thread. Cancel stops the solver through a csgfit.CancelToken within milliseconds.
+Both are FitPanels: the fit runs in a worker thread (the native module releases the GIL while it
+solves); a QTimer on the GUI thread polls its progress and result, so every widget and document
+change happens on the GUI thread. Cancel stops the solver through a csgfit.CancelToken (2D within
+milliseconds, 3D within a second).
 """
 
 import os
@@ -27,13 +28,13 @@ class FitJob:
     fit: the csgfit function to run (fit_image by default, fit_mesh, fit_voxels); it is called
     as fit(source, progress=..., cancel=..., **options)."""
 
-    def __init__(self, csgfit, image, options, fit=None):
+    def __init__(self, csgfit, source, options, fit=None):
         self.token = csgfit.CancelToken()
         self.progress = None  # latest csgfit.FitProgress (written by the solver thread)
         self.result = None
         self.error = None
         self._fit = fit or csgfit.fit_image
-        self._image = image
+        self._source = source
         self._options = options
         self.started = None  # time.monotonic() at start()
         self._thread = threading.Thread(target=self._run, name="csgfit-fit", daemon=True)
@@ -52,7 +53,7 @@ class FitJob:
 
     def _run(self):
         try:
-            self.result = self._fit(self._image, progress=self._on_progress, cancel=self.token,
+            self.result = self._fit(self._source, progress=self._on_progress, cancel=self.token,
                                     **self._options)
         except Exception as e:  # shown in the panel, never a traceback dialog
             self.error = e
@@ -711,9 +712,6 @@ class MeshToCsgPanel(FitPanel):
             if not source:
                 self.show_error("Select a mesh object or choose a file first.")
                 return None
-        if opts["resolution"] and isinstance(source, str) and source.lower().endswith(
-                (".npy", ".binvox")):
-            opts["resolution"] = 0  # voxel files are fitted as they are
         return self.csgfit.fit_mesh, source, opts
 
     def _fit_started(self):

@@ -21,7 +21,6 @@ import fchelpers as H
 try:
     import FreeCAD as App  # noqa: E402
     import Mesh  # noqa: E402
-    import Part  # noqa: E402
 except ImportError as e:  # pragma: no cover
     pytest.skip(f"FreeCAD Python API not available ({e})", allow_module_level=True)
 
