@@ -1,4 +1,4 @@
-"""GUI commands of the CSG Fit workbench: "Image to CSG" and "Export OpenSCAD"."""
+"""GUI commands of the CSG Fit workbench: "Image to CSG", "Mesh to CSG" and "Export OpenSCAD"."""
 
 import os
 
@@ -9,9 +9,10 @@ from PySide2 import QtWidgets
 from . import builder, icon, import_csgfit
 
 IMAGE_TO_CSG = "CSGFit_ImageToCSG"
+MESH_TO_CSG = "CSGFit_MeshToCSG"
 EXPORT_SCAD = "CSGFit_ExportOpenSCAD"
-COMMANDS = [IMAGE_TO_CSG, EXPORT_SCAD]
-#: The last Image to CSG panel opened (scripts and the GUI test drive it).
+COMMANDS = [IMAGE_TO_CSG, MESH_TO_CSG, EXPORT_SCAD]
+#: The last Image to CSG or Mesh to CSG panel opened (scripts and the GUI test drive it).
 active_panel = None
 
 
@@ -37,6 +38,41 @@ class ImageToCsgCommand:
         Gui.Control.showDialog(active_panel)
 
 
+def selected_mesh():
+    """The first selected mesh object (Mesh::Feature), or None."""
+    from .mesh_input import is_mesh_object
+
+    return next((o for o in Gui.Selection.getSelection() if is_mesh_object(o)), None)
+
+
+class MeshToCsgCommand:
+    """Opens the Mesh to CSG task panel on the selected mesh, or asks for a file."""
+
+    def GetResources(self):
+        return {"Pixmap": icon("csgfit_mesh_to_csg"),
+                "MenuText": "Mesh to CSG",
+                "ToolTip": "Fit a parametric CSG tree of 3D primitives to the selected mesh "
+                           "(or to a mesh or voxel file)"}
+
+    def IsActive(self):
+        return not Gui.Control.activeDialog()
+
+    def Activated(self):
+        global active_panel
+        from .mesh_input import FILE_FILTER
+        from .task_panel import MeshToCsgPanel
+
+        mesh = selected_mesh()
+        path = None
+        if mesh is None:
+            path, _ = QtWidgets.QFileDialog.getOpenFileName(
+                Gui.getMainWindow(), "Mesh to CSG: mesh or voxels to fit", "", FILE_FILTER)
+            if not path:
+                return
+        active_panel = MeshToCsgPanel(mesh_object=mesh, path=path)
+        Gui.Control.showDialog(active_panel)
+
+
 def selected_group():
     """The csgfit group of the selection (the group itself or any object inside it)."""
     for obj in Gui.Selection.getSelection():
@@ -53,6 +89,15 @@ def selected_group():
 def export_scad(group, path):
     """Writes the tree stored on a csgfit group as .scad, with the group's current thickness
     (the parameter sheet's cell) and the tree the group shows."""
+    if getattr(group, "CsgFitDimension", 2) == 3:
+        scad = getattr(group, "CsgFitScad", "")
+        if not scad:
+            raise ValueError("this 3D result carries no OpenSCAD text (use csgfit mesh -o X.scad)")
+        tmp = path + ".tmp"
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(scad)
+        os.replace(tmp, path)
+        return path
     csgfit = import_csgfit()
     result = csgfit.load_json(group.CsgFitJson)
     sheet = next((o for o in group.Group if o.TypeId == "Spreadsheet::Sheet"), None)
@@ -103,5 +148,6 @@ def register():
     global _registered
     if not _registered:
         Gui.addCommand(IMAGE_TO_CSG, ImageToCsgCommand())
+        Gui.addCommand(MESH_TO_CSG, MeshToCsgCommand())
         Gui.addCommand(EXPORT_SCAD, ExportScadCommand())
         _registered = True

@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
   bool mesh_quiet = false, mesh_no_align = false;
   CLI::App* mesher = app.add_subcommand("mesh", "fit a 3D CSG tree to a mesh or voxel grid");
   mesher->add_option("input", mesh_in, "STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid")->required();
-  mesher->add_option("-o,--output", mesh_out, "output: .scad or .json")->required();
+  mesher->add_option("-o,--output", mesh_out, "output: .scad, .json or .FCStd")->required();
   mesher->add_option("--resolution", mesh_resolution,
                      "voxels along the longest side of a mesh's search grid (0 = auto: a coarse grid "
                      "of about half a million voxels for the search, then a polish on a fine grid of "
@@ -269,9 +269,9 @@ int main(int argc, char** argv) {
     }
     if (*mesher) {
       const std::string ext = lower_extension(mesh_out);
-      if (ext != ".scad" && ext != ".json")
+      if (ext != ".scad" && ext != ".json" && ext != ".fcstd")
         throw InputError("unknown output format '" + (ext.empty() ? mesh_out : ext) +
-                         "' for a mesh (expected .scad or .json)");
+                         "' for a mesh (expected .scad, .json or .FCStd)");
       check_writable(mesh_out);
       FitOptions3D options;
       try {
@@ -325,6 +325,8 @@ int main(int argc, char** argv) {
                       result.stats.primitives);
         scad.summary = summary;
         write_file_atomic(mesh_out, to_scad(result.tree, scad));
+      } else if (ext == ".fcstd") {
+        write_fcstd(to_json3d(result, target, source, frame), mesh_out);
       } else {
         write_file_atomic(mesh_out, to_json3d(result, target, source, frame));
       }

@@ -1,7 +1,8 @@
-// pybind11 bindings of the 2D fit: the native half of the `csgfit` Python package.
+// pybind11 bindings of the 2D and 3D fits: the native half of the `csgfit` Python package.
 //
 // The binding stays thin on purpose: it turns numpy arrays and files into Bitmaps, runs
-// fit_bitmap with the GIL released, and hands trees back as plain dicts in pixel units. The
+// fit_bitmap with the GIL released, and hands trees back as plain dicts in pixel units (3D:
+// meshes and voxel arrays into VoxelGrids, fit_voxels, the 3D JSON document as text). The
 // Python package (csgfit/__init__.py) turns those into model-unit objects, so the user-facing
 // API can evolve without recompiling.
 #include <pybind11/numpy.h>
@@ -22,11 +23,15 @@
 #include "csgfit/bitmap.h"
 #include "csgfit/error.h"
 #include "csgfit/fit.h"
+#include "csgfit/fit3d.h"
 #include "csgfit/image_io.h"
 #include "csgfit/json_io.h"
+#include "csgfit/mesh_fit.h"
+#include "csgfit/mesh_io.h"
 #include "csgfit/primitive.h"
 #include "csgfit/tree.h"
 #include "scad_writer.h"
+#include "scad_writer3d.h"
 
 namespace py = pybind11;
 
@@ -278,12 +283,220 @@ NativeResult run_fit(const U8Array& mask, double k, const std::string& primitive
   return out;
 }
 
+// ---- 3D ------------------------------------------------------------------------------------
+
+/// A 3D fit with the grid it was fitted on (the grid's placement maps voxels to model units).
+struct NativeResult3D {
+  csgfit::FitResult3D result;
+  csgfit::VoxelGrid target;
+  std::string source;
+  std::string warning;  // what describe_mesh_problems said about the input mesh, if anything
+};
+
+using F64Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using I64Array = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+/// Voxel arrays larger than this are refused (the CLI's voxelisation limit).
+constexpr std::size_t kMaxVoxels = std::size_t{1} << 27;
+
+void check_grid_frame(const std::vector<double>& origin, double voxel_size) {
+  if (origin.size() != 3) throw csgfit::InputError("origin must be three numbers (x, y, z)");
+  for (double v : origin)
+    if (!std::isfinite(v)) throw csgfit::InputError("origin must be finite");
+  if (!std::isfinite(voxel_size) || voxel_size <= 0)
+    throw csgfit::InputError("voxel_size must be a positive number");
+}
+
+/// Array index [i][j][k] is voxel (x, y, z) = (i, j, k), as in .npy files.
+csgfit::VoxelGrid grid_from_array(const U8Array& voxels, const std::vector<double>& origin,
+                                  double voxel_size) {
+  if (voxels.ndim() != 3)
+    throw csgfit::InputError("expected a 3D voxel array (nx x ny x nz), got " +
+                             std::to_string(voxels.ndim()) + " dimension" +
+                             (voxels.ndim() == 1 ? "" : "s"));
+  check_grid_frame(origin, voxel_size);
+  const py::ssize_t nx = voxels.shape(0), ny = voxels.shape(1), nz = voxels.shape(2);
+  if (nx == 0 || ny == 0 || nz == 0) throw csgfit::InputError("empty voxel array");
+  if (static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) * static_cast<std::size_t>(nz) >
+      kMaxVoxels)
+    throw csgfit::InputError("voxel array too large (" + std::to_string(nx) + " x " +
+                             std::to_string(ny) + " x " + std::to_string(nz) + ")");
+  csgfit::VoxelGrid grid(static_cast<int>(nx), static_cast<int>(ny), static_cast<int>(nz),
+                         origin[0], origin[1], origin[2], voxel_size);
+  auto v = voxels.unchecked<3>();
+  for (py::ssize_t k = 0; k < nz; ++k)
+    for (py::ssize_t j = 0; j < ny; ++j)
+      for (py::ssize_t i = 0; i < nx; ++i)
+        if (v(i, j, k) != 0) grid.set(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
+  return grid;
+}
+
+py::array_t<bool> array_from_grid(const csgfit::VoxelGrid& grid) {
+  py::array_t<bool> out({static_cast<py::ssize_t>(grid.nx()), static_cast<py::ssize_t>(grid.ny()),
+                         static_cast<py::ssize_t>(grid.nz())});
+  auto v = out.mutable_unchecked<3>();
+  for (int k = 0; k < grid.nz(); ++k)
+    for (int j = 0; j < grid.ny(); ++j)
+      for (int i = 0; i < grid.nx(); ++i) v(i, j, k) = grid.get(i, j, k);
+  return out;
+}
+
+py::tuple grid_tuple(const csgfit::VoxelGrid& grid) {
+  return py::make_tuple(array_from_grid(grid),
+                        py::make_tuple(grid.origin_x(), grid.origin_y(), grid.origin_z()),
+                        grid.voxel_size());
+}
+
+/// (n, 3) finite vertices and (m, 3) triangles indexing them.
+csgfit::TriangleMesh mesh_from_arrays(const F64Array& vertices, const I64Array& triangles) {
+  if (vertices.ndim() != 2 || vertices.shape(1) != 3)
+    throw csgfit::InputError("vertices must be an (n, 3) array");
+  if (triangles.ndim() != 2 || triangles.shape(1) != 3)
+    throw csgfit::InputError("triangles must be an (m, 3) array of vertex indices");
+  const csgfit::MeshReadOptions limits;
+  if (static_cast<std::size_t>(vertices.shape(0)) > limits.max_vertices ||
+      static_cast<std::size_t>(triangles.shape(0)) > limits.max_triangles)
+    throw csgfit::InputError("mesh too large (" + std::to_string(vertices.shape(0)) +
+                             " vertices, " + std::to_string(triangles.shape(0)) + " triangles)");
+  if (triangles.shape(0) == 0) throw csgfit::InputError("the mesh has no triangles");
+  csgfit::TriangleMesh mesh;
+  auto v = vertices.unchecked<2>();
+  mesh.vertices.resize(static_cast<std::size_t>(vertices.shape(0)));
+  for (py::ssize_t i = 0; i < vertices.shape(0); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(v(i, a)))
+        throw csgfit::InputError("vertex " + std::to_string(i) + " is not finite");
+      mesh.vertices[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)] = v(i, a);
+    }
+  }
+  auto t = triangles.unchecked<2>();
+  mesh.triangles.resize(static_cast<std::size_t>(triangles.shape(0)));
+  for (py::ssize_t i = 0; i < triangles.shape(0); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t idx = t(i, a);
+      if (idx < 0 || idx >= vertices.shape(0))
+        throw csgfit::InputError("triangle " + std::to_string(i) + " refers to vertex " +
+                                 std::to_string(idx) + " (the mesh has " +
+                                 std::to_string(vertices.shape(0)) + ")");
+      mesh.triangles[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)] =
+          static_cast<int>(idx);
+    }
+  }
+  return mesh;
+}
+
+/// Voxelises at `voxel_size` (> 0), `resolution` voxels along the longest side (> 0), or the
+/// CLI's automatic size (both 0); `warning` gets the mesh diagnosis.
+csgfit::VoxelGrid voxelize_mesh(const csgfit::TriangleMesh& mesh, int resolution,
+                                double voxel_size, std::string* warning) {
+  if (resolution < 0 || resolution > 512)
+    throw csgfit::InputError("resolution must be 0 (auto) .. 512");
+  if (!std::isfinite(voxel_size) || voxel_size < 0)
+    throw csgfit::InputError("voxel_size must be >= 0 (0 = from the resolution)");
+  const csgfit::MeshReport report = csgfit::analyze_mesh(mesh);
+  if (warning) *warning = csgfit::describe_mesh_problems(report);
+  csgfit::VoxelizeOptions options;
+  options.resolution = resolution > 0 ? resolution : 96;
+  options.voxel_size = voxel_size;
+  if (voxel_size == 0 && resolution == 0) options.voxel_size = csgfit::auto_voxel_size(report);
+  return csgfit::voxelize(mesh, options);
+}
+
+csgfit::FitOptions3D fit_options_3d(double k, const std::string& primitives, double time_limit,
+                                    int threads, std::uint64_t seed, const py::object& progress) {
+  if (!std::isfinite(time_limit) || time_limit <= 0)
+    throw csgfit::InputError("time must be a positive number of seconds");
+  if (threads < 0) throw csgfit::InputError("threads must be >= 0 (0 = all cores)");
+  if (!std::isfinite(k)) throw csgfit::InputError("k must be a finite number");
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+    throw csgfit::InputError("progress must be callable or None");
+  csgfit::FitOptions3D options;
+  try {
+    options.primitives = csgfit::PrimitiveSet3D::parse(primitives);
+  } catch (const std::invalid_argument& e) {
+    throw csgfit::InputError(std::string("primitives: ") + e.what());
+  }
+  if (!options.primitives.has(csgfit::PrimitiveKind3D::Box))
+    throw csgfit::InputError("primitives: the 3D fit needs boxes among them");
+  options.k = k;
+  options.time_limit = time_limit;
+  options.threads = threads;
+  options.seed = seed;
+  return options;
+}
+
+NativeResult3D run_fit3d(const csgfit::VoxelGrid& target, double k,
+                         const std::string& primitives, double time_limit, int threads,
+                         std::uint64_t seed, const py::object& progress,
+                         const CancelToken* cancel, const std::string& source,
+                         const std::string& warning) {
+  const csgfit::FitOptions3D options = fit_options_3d(k, primitives, time_limit, threads, seed, progress);
+  if (target.count() == 0) throw csgfit::InputError("no solid found (no voxel is set)");
+  NativeResult3D out;
+  out.target = target;
+  out.source = source;
+  out.warning = warning;
+  const std::atomic<bool>* flag = cancel ? cancel->flag() : nullptr;
+  ProgressBridge bridge(progress, flag);
+  {
+    py::gil_scoped_release release;
+    try {
+      out.result = csgfit::fit_voxels(
+          out.target, options, [&bridge](const csgfit::FitProgress& p) { return bridge(p); },
+          flag);
+    } catch (const std::invalid_argument& e) {
+      throw csgfit::InputError(e.what());
+    }
+  }
+  bridge.rethrow_if_failed();
+  return out;
+}
+
+/// A mesh fit as `csgfit mesh` does it (fitting frame, coarse search, fine polish, surface
+/// refinement); the preview grid is the mesh voxelised in its own axes at the fit's voxel size.
+NativeResult3D run_fit_mesh(const csgfit::TriangleMesh& mesh, int resolution, double k,
+                            const std::string& primitives, double time_limit, int threads,
+                            std::uint64_t seed, const py::object& progress,
+                            const CancelToken* cancel, const std::string& source) {
+  if (resolution < 0 || resolution > 512)
+    throw csgfit::InputError("resolution must be 0 (auto) .. 512");
+  const csgfit::FitOptions3D options = fit_options_3d(k, primitives, time_limit, threads, seed, progress);
+  csgfit::MeshFitOptions mesh_options;
+  mesh_options.resolution = resolution;
+  NativeResult3D out;
+  out.source = source;
+  const std::atomic<bool>* flag = cancel ? cancel->flag() : nullptr;
+  ProgressBridge bridge(progress, flag);
+  {
+    py::gil_scoped_release release;
+    try {
+      csgfit::MeshFitResult fitted = csgfit::fit_mesh(
+          mesh, options, mesh_options,
+          [&bridge](const csgfit::FitProgress& p) { return bridge(p); }, flag);
+      out.warning = csgfit::describe_mesh_problems(fitted.report);
+      out.result = std::move(fitted.fit);
+      if (fitted.frame.is_identity()) {
+        out.target = std::move(fitted.grid);
+      } else {
+        csgfit::VoxelizeOptions v;
+        v.voxel_size = fitted.grid.voxel_size();
+        out.target = csgfit::voxelize(mesh, v);
+      }
+    } catch (const std::invalid_argument& e) {
+      throw csgfit::InputError(e.what());
+    }
+  }
+  bridge.rethrow_if_failed();
+  return out;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_csgfit, m) {
   m.doc() =
-      "Native core of the csgfit package: bitmap to CSG tree fitting. Use the `csgfit` package "
-      "(csgfit.fit_image) rather than this module directly.";
+      "Native core of the csgfit package: bitmap, mesh and voxel to CSG tree fitting. Use the "
+      "`csgfit` package (csgfit.fit_image, csgfit.fit_mesh, csgfit.fit_voxels) rather than this "
+      "module directly.";
 
   // Bad input is a ValueError for Python users; InputError keeps the solver's one-line message.
   static py::exception<csgfit::InputError> input_error(m, "InputError", PyExc_ValueError);
@@ -447,4 +660,134 @@ PYBIND11_MODULE(_csgfit, m) {
 
   m.def("default_k", &csgfit::default_k, py::arg("width"), py::arg("height"),
         "Size weight k used when none is given: 25 at 128 x 128, scaled to the pixel count.");
+  py::class_<NativeResult3D>(m, "NativeResult3D",
+                             "A 3D fit in model units with its voxel grid; wrapped by "
+                             "csgfit.FitResult3D.")
+      .def_property_readonly("source", [](const NativeResult3D& r) { return r.source; })
+      .def_property_readonly("warning", [](const NativeResult3D& r) { return r.warning; },
+                             "What is wrong with the input mesh ('' when nothing).")
+      .def_property_readonly("shape", [](const NativeResult3D& r) {
+        return py::make_tuple(r.target.nx(), r.target.ny(), r.target.nz());
+      }, "Grid size (nx, ny, nz).")
+      .def_property_readonly("origin", [](const NativeResult3D& r) {
+        return py::make_tuple(r.target.origin_x(), r.target.origin_y(), r.target.origin_z());
+      }, "Model coordinates of the grid's corner (voxel (0, 0, 0)'s low corner).")
+      .def_property_readonly("voxel_size", [](const NativeResult3D& r) {
+        return r.target.voxel_size();
+      }, "Voxel edge in model units.")
+      .def("to_json", [](const NativeResult3D& r) {
+        return csgfit::to_json3d(r.result, r.target, r.source);
+      }, "The 3D JSON document (docs/JSON_SCHEMA.md, 3D documents).")
+      .def("target", [](const NativeResult3D& r) { return array_from_grid(r.target); },
+           "The fitted voxels: bool array [i, j, k] = voxel (x, y, z).")
+      .def("raster", [](const NativeResult3D& r) {
+        csgfit::VoxelGrid grid;
+        {
+          py::gil_scoped_release release;
+          grid = csgfit::render(r.result.tree, r.target);
+        }
+        return array_from_grid(grid);
+      }, "The solver's voxels of the tree on the same grid (bool array [i, j, k]).")
+      .def("to_scad", [](const NativeResult3D& r, int fn) {
+        if (fn < 3) throw csgfit::InputError("fn must be >= 3");
+        csgfit::ScadOptions3D options;
+        options.fn = fn;
+        options.source = r.source;
+        return csgfit::to_scad(r.result.tree, options);
+      }, py::arg("fn") = 64, "OpenSCAD 2021.01 source of the tree (model units).");
+
+  m.def(
+      "load_mesh",
+      [](const std::string& path) {
+        csgfit::TriangleMesh mesh;
+        {
+          py::gil_scoped_release release;
+          mesh = csgfit::read_mesh(path);
+        }
+        py::array_t<double> vertices({static_cast<py::ssize_t>(mesh.vertices.size()),
+                                      static_cast<py::ssize_t>(3)});
+        py::array_t<std::int32_t> triangles({static_cast<py::ssize_t>(mesh.triangles.size()),
+                                             static_cast<py::ssize_t>(3)});
+        auto v = vertices.mutable_unchecked<2>();
+        auto t = triangles.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+          for (int a = 0; a < 3; ++a) v(static_cast<py::ssize_t>(i), a) = mesh.vertices[i][a];
+        for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+          for (int a = 0; a < 3; ++a) t(static_cast<py::ssize_t>(i), a) = mesh.triangles[i][a];
+        return py::make_tuple(vertices, triangles);
+      },
+      py::arg("path"), "Reads an STL, OBJ, OFF or PLY mesh: (vertices (n, 3), triangles (m, 3)).");
+
+  m.def(
+      "load_voxels",
+      [](const std::string& path) {
+        csgfit::VoxelGrid grid;
+        {
+          py::gil_scoped_release release;
+          grid = csgfit::read_voxels(path);
+        }
+        return grid_tuple(grid);
+      },
+      py::arg("path"), "Reads a .npy or .binvox voxel grid: (bool array, origin, voxel_size).");
+
+  m.def("is_mesh_path", &csgfit::is_mesh_path, py::arg("path"));
+  m.def("is_voxel_path", &csgfit::is_voxel_path, py::arg("path"));
+
+  m.def(
+      "voxelize",
+      [](const F64Array& vertices, const I64Array& triangles, int resolution, double voxel_size) {
+        const csgfit::TriangleMesh mesh = mesh_from_arrays(vertices, triangles);
+        std::string warning;
+        csgfit::VoxelGrid grid;
+        {
+          py::gil_scoped_release release;
+          grid = voxelize_mesh(mesh, resolution, voxel_size, &warning);
+        }
+        py::tuple t = grid_tuple(grid);
+        return py::make_tuple(t[0], t[1], t[2], warning);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("resolution") = 0,
+      py::arg("voxel_size") = 0.0,
+      "Solid voxels of a mesh as the CLI makes them: (bool array, origin, voxel_size, warning).");
+
+  m.def(
+      "fit_mesh_arrays",
+      [](const F64Array& vertices, const I64Array& triangles, int resolution, double voxel_size,
+         double k, const std::string& primitives, double time_limit, int threads,
+         std::uint64_t seed, const py::object& progress, const CancelToken* cancel,
+         const std::string& source) {
+        const csgfit::TriangleMesh mesh = mesh_from_arrays(vertices, triangles);
+        if (voxel_size == 0)
+          return run_fit_mesh(mesh, resolution, k, primitives, time_limit, threads, seed,
+                              progress, cancel, source);
+        // An explicit voxel size: the fit runs on exactly that grid, in the mesh's axes.
+        std::string warning;
+        csgfit::VoxelGrid grid;
+        {
+          py::gil_scoped_release release;
+          grid = voxelize_mesh(mesh, resolution, voxel_size, &warning);
+        }
+        return run_fit3d(grid, k, primitives, time_limit, threads, seed, progress, cancel,
+                         source, warning);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("resolution") = 0,
+      py::arg("voxel_size") = 0.0, py::arg("k") = -1.0, py::arg("primitives") = "box,sphere,cylinder,cone,ellipsoid,prism",
+      py::arg("time") = 30.0, py::arg("threads") = 0, py::arg("seed") = 1,
+      py::arg("progress") = py::none(), py::arg("cancel") = nullptr, py::arg("source") = "",
+      "Voxelises a mesh and fits a 3D CSG tree to it (GIL released while solving).");
+
+  m.def(
+      "fit_voxels",
+      [](const U8Array& voxels, const std::vector<double>& origin, double voxel_size, double k,
+         const std::string& primitives, double time_limit, int threads, std::uint64_t seed,
+         const py::object& progress, const CancelToken* cancel, const std::string& source) {
+        const csgfit::VoxelGrid grid = grid_from_array(voxels, origin, voxel_size);
+        return run_fit3d(grid, k, primitives, time_limit, threads, seed, progress, cancel,
+                         source, "");
+      },
+      py::arg("voxels"), py::arg("origin") = std::vector<double>{0, 0, 0},
+      py::arg("voxel_size") = 1.0, py::arg("k") = -1.0, py::arg("primitives") = "box,sphere,cylinder,cone,ellipsoid,prism",
+      py::arg("time") = 30.0, py::arg("threads") = 0, py::arg("seed") = 1,
+      py::arg("progress") = py::none(), py::arg("cancel") = nullptr, py::arg("source") = "",
+      "Fits a 3D CSG tree to a voxel array ([i, j, k] = voxel (x, y, z), nonzero = solid).");
 }

@@ -128,3 +128,95 @@ def components(mask):
                     seen[rr, cc] = True
                     stack.append((rr, cc))
     return n
+
+
+def _quat_matrix(q):
+    """App.Matrix of the rotation of unit quaternion [w, x, y, z] (the textbook formula, so
+    the check does not go through App.Rotation as the builder does)."""
+    import FreeCAD as App
+
+    w, x, y, z = q
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    r = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+    m = App.Matrix()
+    m.A11, m.A12, m.A13 = r[0]
+    m.A21, m.A22, m.A23 = r[1]
+    m.A31, m.A32, m.A33 = r[2]
+    return m
+
+
+def static_shape3d(node):
+    """The solid of a 3D JSON tree built directly with Part's functions in each primitive's
+    centred local frame, then turned and moved by a matrix: independent of the builder's
+    corner/base offsets and Placements."""
+    import FreeCAD as App
+    import Part
+
+    if "op" in node:
+        shapes = [static_shape3d(c) for c in node["children"]]
+        if len(shapes) == 1:
+            return shapes[0]
+        if node["op"] == "union":
+            return shapes[0].fuse(shapes[1:]).removeSplitter()
+        if node["op"] == "intersection":
+            out = shapes[0]
+            for s in shapes[1:]:
+                out = out.common(s)
+            return out
+        return shapes[0].cut(shapes[1:])
+    t = node["type"]
+    V = App.Vector
+    if t == "box":
+        sx, sy, sz = node["size"]
+        s = Part.makeBox(sx, sy, sz, V(-sx / 2, -sy / 2, -sz / 2))
+    elif t == "sphere":
+        s = Part.makeSphere(node["r"])
+    elif t == "cylinder":
+        s = Part.makeCylinder(node["r"], node["h"], V(0, 0, -node["h"] / 2))
+    elif t == "cone" and node["r1"] == node["r2"]:
+        s = Part.makeCylinder(node["r1"], node["h"], V(0, 0, -node["h"] / 2))
+    elif t == "cone":
+        s = Part.makeCone(node["r1"], node["r2"], node["h"], V(0, 0, -node["h"] / 2))
+    elif t == "torus":
+        s = Part.makeTorus(node["R"], node["r"])
+    elif t == "ellipsoid":
+        rx, ry, rz = node["radii"]
+        m = App.Matrix()
+        m.scale(rx, ry, rz)
+        s = Part.makeSphere(1.0).transformGeometry(m)
+    elif t == "prism":
+        w, h, d, apex = node["w"], node["h"], node["depth"], node.get("apex", 0.0)
+        pts = [V(-w / 2, -h / 2, -d / 2), V(w / 2, -h / 2, -d / 2), V(apex * w / 2, h / 2, -d / 2)]
+        s = Part.Face(Part.makePolygon(pts + [pts[0]])).extrude(V(0, 0, d))
+    else:
+        raise ValueError(t)
+    m = _quat_matrix(node.get("rotation", [1, 0, 0, 0]))
+    m.move(V(*node["center"]))
+    # transformShape keeps analytic surfaces exact for a rigid matrix (transformGeometry would
+    # turn them into approximate B-splines).
+    s = s.copy()
+    s.transformShape(m, True)
+    return s
+
+
+def make_fixture(path, placement=None):
+    """A 32 x 20 x 12 block minus a radius-5 cylinder through it (z), as STL; returns the
+    mesh's volume. At 64 voxels along the longest side the block's faces fall on voxel
+    boundaries (0.5 mm voxels), so the voxels hold the block's volume exactly; a side that is
+    not a whole number of voxels rounds to one, which moves the volume by up to a voxel layer
+    per face (about 3 % at this size when the block is turned by 30 degrees)."""
+    import FreeCAD as App
+    import Mesh
+    import Part
+
+    block = Part.makeBox(32, 20, 12)
+    hole = Part.makeCylinder(5, 20, App.Vector(20, 10, -4))
+    solid = block.cut(hole)
+    if placement is not None:
+        solid.Placement = placement
+    mesh = Mesh.Mesh(solid.tessellate(0.01))
+    mesh.write(str(path))
+    return mesh.Volume

@@ -1,7 +1,9 @@
 # GUI test macro, run by test_freecad_gui.py as `xvfb-run -a freecad gui_macro.py`.
-# Drives the CSG Fit workbench through its own code: activates it, runs "Image to CSG" on a
-# bitmap through the task panel (bad file, cancel, fit, preview, accept), checks the tree,
-# exports OpenSCAD, saves screenshots, writes a JSON report to $CSGFIT_GUI_REPORT and exits.
+# Drives the CSG Fit workbench through its own code: activates it, then runs the scenario
+# $CSGFIT_GUI_SCENARIO: "image" (default) runs "Image to CSG" on the bitmap $CSGFIT_GUI_IMAGE,
+# "mesh" runs "Mesh to CSG" on the mesh object made from $CSGFIT_GUI_MESH, both through the task
+# panel (bad input, cancel, fit, preview, accept); it checks the tree, exports OpenSCAD, saves
+# screenshots, writes a JSON report to $CSGFIT_GUI_REPORT and exits.
 import json
 import os
 import sys
@@ -14,7 +16,7 @@ from PySide2 import QtCore, QtWidgets
 
 report = {"ok": False, "steps": []}
 REPORT = os.environ["CSGFIT_GUI_REPORT"]
-IMAGE = os.environ["CSGFIT_GUI_IMAGE"]
+SCENARIO = os.environ.get("CSGFIT_GUI_SCENARIO", "image")
 SHOTS = os.environ.get("CSGFIT_GUI_SHOTS", os.path.dirname(REPORT))
 
 
@@ -64,6 +66,36 @@ def shot(name):
     step("screenshot", path=path)
 
 
+def check_built(doc, builder):
+    """Report on the built group (the one csgfit group of doc)."""
+    groups = builder.find_groups(doc)
+    report["groups"] = [g.Label for g in groups]
+    group = groups[0]
+    report["problems"] = builder.check_tree(doc, group)
+    report["types"] = sorted({o.TypeId for o in builder.tree_objects(group)})
+    report["root_valid"] = group.CsgFitRoot.Shape.isValid()
+    report["root_volume"] = group.CsgFitRoot.Shape.Volume
+    report["dialog_closed"] = not Gui.Control.activeDialog()
+    return group
+
+
+def show_tree(group, builder, prefer):
+    """Expand the group and the root in the tree view and select a primitive of type `prefer`
+    so that the property editor shows its dimensions."""
+    mw = Gui.getMainWindow()
+    tree = mw.findChild(QtWidgets.QTreeWidget)
+    if tree is not None:
+        for label in (group.Label, group.CsgFitRoot.Label):
+            for item in tree.findItems(label, QtCore.Qt.MatchExactly | QtCore.Qt.MatchRecursive):
+                item.setExpanded(True)
+    obj = next((o for o in builder.tree_objects(group) if o.TypeId == prefer), None)
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(obj or group.CsgFitRoot)
+    Gui.ActiveDocument.ActiveView.viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
+    pump(0.5)
+
+
 def main():
     mw = Gui.getMainWindow()
     mw.resize(1400, 1000)
@@ -73,8 +105,13 @@ def main():
         mw.resizeDocks([dock], [470], QtCore.Qt.Horizontal)
     Gui.activateWorkbench("CSGFitWorkbench")
     report["workbench"] = Gui.activeWorkbench().MenuText
+    {"image": image_scenario, "mesh": mesh_scenario}[SCENARIO]()
+
+
+def image_scenario():
     from csgfit_freecad import builder, commands
 
+    IMAGE = os.environ["CSGFIT_GUI_IMAGE"]
     doc = App.newDocument("ImageToCSG")
     Gui.runCommand(commands.IMAGE_TO_CSG)
     pump(0.5)
@@ -117,32 +154,82 @@ def main():
     accepted = panel.accept()
     pump(0.5)
     report["accepted"] = bool(accepted)
-    groups = builder.find_groups(doc)
-    report["groups"] = [g.Label for g in groups]
-    group = groups[0]
-    report["problems"] = builder.check_tree(doc, group)
-    report["types"] = sorted({o.TypeId for o in builder.tree_objects(group)})
-    report["root_valid"] = group.CsgFitRoot.Shape.isValid()
-    report["root_volume"] = group.CsgFitRoot.Shape.Volume
-    report["dialog_closed"] = not Gui.Control.activeDialog()
-
-    # Show the tree: expand the group and the root, select a primitive so that the property
-    # editor shows its dimensions.
-    tree = mw.findChild(QtWidgets.QTreeWidget)
-    if tree is not None:
-        for label in (group.Label, group.CsgFitRoot.Label):
-            for item in tree.findItems(label, QtCore.Qt.MatchExactly | QtCore.Qt.MatchRecursive):
-                item.setExpanded(True)
-    box = next((o for o in builder.tree_objects(group) if o.TypeId == "Part::Box"), None)
-    Gui.Selection.clearSelection()
-    Gui.Selection.addSelection(box or group.CsgFitRoot)
-    Gui.ActiveDocument.ActiveView.viewIsometric()
-    Gui.SendMsgToActiveView("ViewFit")
-    pump(0.5)
+    group = check_built(doc, builder)
+    show_tree(group, builder, "Part::Box")
     shot("freecad_result_tree.png")
 
     # Export OpenSCAD through the command's code.
     scad = os.path.join(os.path.dirname(REPORT), "gui_export.scad")
+    commands.export_scad(group, scad)
+    report["scad_bytes"] = os.path.getsize(scad)
+    report["ok"] = True
+
+
+def mesh_scenario():
+    import Mesh
+    from csgfit_freecad import builder, commands
+
+    path = os.environ["CSGFIT_GUI_MESH"]
+    doc = App.newDocument("MeshToCSG")
+    mesh = doc.addObject("Mesh::Feature", "block_with_hole")
+    mesh.Mesh = Mesh.Mesh(path)
+    doc.recompute()
+    Gui.SendMsgToActiveView("ViewFit")
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(mesh)
+    Gui.runCommand(commands.MESH_TO_CSG)
+    pump(0.5)
+    panel = commands.active_panel
+    assert panel is not None and type(panel).__name__ == "MeshToCsgPanel", \
+        "the command did not open the Mesh to CSG panel"
+    report["panel_mesh"] = panel.mesh_object.Label if panel.mesh_object else None
+    step("panel opened")
+
+    # Cancel: a long fit stops promptly and keeps the best tree so far.
+    panel.time.setValue(60)
+    panel.start_fit()
+    pump(0.5)
+    t0 = time.monotonic()
+    panel.cancel_fit()
+    wait_fit(panel, 10)
+    report["cancel_seconds"] = time.monotonic() - t0
+    report["cancel_stop_reason"] = panel.result.stats.stop_reason if panel.result else None
+
+    # The real fit (it ends by convergence on this part).
+    panel.time.setValue(30)
+    panel.quality.setCurrentIndex(0)  # 64 voxels along the longest side: converges in seconds
+    panel.seed.setValue(1)
+    panel.start_fit()
+    report["fit_seconds"] = wait_fit(panel, 60)
+    report["status"] = panel.status.text()
+    report["preview"] = not panel.preview.pixmap().isNull()
+    report["overlay"] = panel.overlay.node is not None
+    report["mesh_mode_preview"] = mesh.ViewObject.DisplayMode
+    report["iou"] = panel.result.stats.iou
+    report["primitives"] = panel.result.stats.primitives
+    report["fit_volume"] = panel.result.volume()
+    pump(0.3)
+    shot("freecad_mesh_to_csg.png")
+
+    accepted = panel.accept()
+    pump(0.5)
+    report["accepted"] = bool(accepted)
+    report["overlay_after_accept"] = panel.overlay.node is not None
+    report["mesh_hidden"] = not mesh.ViewObject.Visibility
+    report["mesh_mode_after"] = mesh.ViewObject.DisplayMode
+    report["mesh_volume"] = mesh.Mesh.Volume
+    group = check_built(doc, builder)
+    show_tree(group, builder, "Part::Cylinder")
+    shot("freecad_mesh_result_tree.png")
+
+    # A file that is not a mesh: the panel says so in its status line.
+    Gui.Control.closeDialog()
+    from csgfit_freecad.task_panel import MeshToCsgPanel
+
+    bad = MeshToCsgPanel(path="/nonexistent/missing.stl")
+    report["bad_file_status"] = bad.status.text()
+
+    scad = os.path.join(os.path.dirname(REPORT), "gui_export_mesh.scad")
     commands.export_scad(group, scad)
     report["scad_bytes"] = os.path.getsize(scad)
     report["ok"] = True

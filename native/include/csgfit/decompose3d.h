@@ -2,6 +2,7 @@
 // regions to primitives, and the recursive bounding-box difference with the heuristic split.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -54,6 +55,9 @@ struct DecomposeOptions3D {
   /// Seconds after which only seed 003's own steps are taken (the matched-primitive
   /// refinement, which roughly doubles the work, is skipped); <= 0: no limit.
   double time_limit = 0;
+  /// When set and true, the decomposition winds up as it does past time_limit (every region
+  /// left gets its box or nothing), so a cancelled fit still ends with a valid tree, soon.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// The seed-003 tree of `target`: union over the solid's components of

@@ -1,6 +1,7 @@
 // The seed-000 local optimiser and pruning for 3D trees (the 3D twin of local_opt.h).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 
 #include <cstddef>
@@ -19,6 +20,9 @@ struct LocalOptOptions3D {
   bool move_sizes = true;      ///< false: only positions move
   /// The optimiser stops at the next primitive once this time has passed (budgeted searches).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  /// Checked with the deadline: when set and true the optimiser stops the same way (a
+  /// cancelled fit must not wait for a long polish).
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// Pattern search on the parameters of the given leaves (all leaves when `leaf_indices` is

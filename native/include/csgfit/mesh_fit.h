@@ -19,8 +19,9 @@ struct MeshFitOptions {
   int resolution = 0;
   /// Fit in the mesh's dominant frame (see dominant_frame) rather than its own axes.
   bool align = true;
-  /// Re-optimise the searched tree's parameters on a finer grid (about 11 voxels across the
-  /// part's mean wall thickness) for this share of the time budget; 0 = no fine polish.
+  /// Re-optimise the searched tree's parameters on the finer grid of auto_voxel_size (about
+  /// 11 voxels across the part's mean wall thickness) and refine them against surface samples
+  /// in this share of the time budget (half of it when the grids are alike); 0 = neither.
   double polish_share = 0.15;
 };
 
@@ -40,10 +41,6 @@ struct MeshFitResult {
 /// least 90 % as much aligned face area (an axis-aligned part stays as drawn) or when there is
 /// no planar face to go by (spheres, tori).
 Quaternion dominant_frame(const TriangleMesh& mesh);
-
-/// Voxel edge for a fine fit of a mesh: about 11 voxels across its mean thickness 2V/A, at
-/// least 96 and at most 256 along the longest side, at most 160^3 voxels in all.
-double fine_voxel_size(const MeshReport& report);
 
 /// Fits a CSG tree to a closed (or nearly closed) mesh. Throws InputError when the mesh holds
 /// no solid, std::invalid_argument for bad options; honours progress and cancel as fit_voxels.

@@ -109,6 +109,12 @@ struct VoxelizeStats {
   double seconds = 0;
 };
 
+/// The voxel edge `csgfit mesh` uses when no resolution is given: about 11 voxels across the
+/// part's mean wall thickness 2V/A (a voxel fit is exact only to half a voxel per face), at least
+/// the voxels of 96 along the longest side (more for thin, elongated boxes), within 256 along
+/// the longest side and 160^3 voxels in all. 0 when the report has no extent.
+double auto_voxel_size(const MeshReport& report);
+
 /// Solid voxels of a mesh: voxel centres inside the mesh. Inside/outside is decided per voxel
 /// centre by six rays (both directions along x, y and z); each ray's signed crossing count
 /// (the winding number along it, non-zero rule) is one vote, computed for a whole grid row at

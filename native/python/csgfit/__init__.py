@@ -1,10 +1,13 @@
-"""csgfit: turn bitmaps into compact, editable CSG trees.
+"""csgfit: turn bitmaps, meshes and voxel grids into compact, editable CSG trees.
 
     >>> import csgfit
     >>> result = csgfit.fit_image("part.png", pixel_size=0.5, time=2)
     >>> result.stats.iou, result.stats.primitives
     >>> print(result.tree)            # Node / Primitive objects in model units (mm)
     >>> open("part.scad", "w").write(result.to_scad())
+
+3D: ``csgfit.fit_mesh("part.stl", time=20)`` or ``csgfit.fit_voxels(bool_array, ...)`` return a
+FitResult3D whose ``document`` is the dimension-3 JSON document of ``csgfit mesh -o x.json``.
 
 Coordinates follow the project's contract: an image of W x H pixels with pixel size s covers
 [0, W*s] x [0, H*s] with y pointing up; angles are degrees counter-clockwise.
@@ -27,14 +30,20 @@ __all__ = [
     "CancelToken",
     "FitProgress",
     "FitResult",
+    "FitResult3D",
     "FitStats",
     "InputError",
     "Node",
     "Primitive",
     "default_k",
     "fit_image",
+    "fit_mesh",
+    "fit_voxels",
     "load_bitmap",
     "load_json",
+    "load_mesh",
+    "load_voxels",
+    "voxelize",
 ]
 
 CancelToken = _csgfit.CancelToken
@@ -44,6 +53,10 @@ InputError = _csgfit.InputError
 default_k = _csgfit.default_k
 
 PRIMITIVE_TYPES = ("rectangle", "circle", "ellipse", "triangle")
+#: 3D primitive names (JSON "type"); "prism" is the triangular prism.
+PRIMITIVE_TYPES_3D = ("box", "sphere", "cylinder", "cone", "ellipsoid", "torus", "prism")
+#: What fit_mesh / fit_voxels use by default (the CLI's default: no torus).
+DEFAULT_PRIMITIVES_3D = ("box", "sphere", "cylinder", "cone", "ellipsoid", "prism")
 QUALITIES = ("fast", "default", "best", "paper")
 
 
@@ -180,7 +193,9 @@ class FitStats:
     @classmethod
     def _from_dict(cls, d: dict) -> "FitStats":
         names = cls.__dataclass_fields__.keys()
-        return cls(**{k: v for k, v in d.items() if k in names})
+        # JSON writes a non-finite statistic as null; read it back as 0 (the schema says so).
+        return cls(**{k: (v if v is not None else cls.__dataclass_fields__[k].default)
+                      for k, v in d.items() if k in names})
 
 
 def _convert(d: dict, scale: float) -> Union[Node, Primitive]:
@@ -376,3 +391,192 @@ def load_json(text_or_path: Union[str, os.PathLike]) -> FitResult:
         except OSError as e:
             raise InputError(f"cannot read {text}: {e.strerror}") from None
     return FitResult(_csgfit.from_json(text))
+
+
+# ---- 3D ------------------------------------------------------------------------------------
+
+
+class FitResult3D:
+    """The outcome of fit_mesh / fit_voxels.
+
+    document: the dimension-3 JSON document as a dict (docs/JSON_SCHEMA.md, "3D documents"),
+        exactly what `csgfit mesh IN -o OUT.json` writes: its "tree" holds operator nodes and
+        primitives with "center", "rotation" (unit quaternion w, x, y, z, local -> model) and
+        their sizes, in the mesh's own units.
+    tree: document["tree"]. stats: FitStats (excess / uncovered in voxels).
+    shape, origin, voxel_size: the voxel grid the fit was scored on.
+    source: the input's file name ('' for arrays). warning: what is wrong with the input mesh
+        (open, non-manifold, inverted...), '' when nothing.
+    """
+
+    def __init__(self, native):
+        import json
+
+        self._native = native
+        self.document = json.loads(native.to_json())
+        self.tree = self.document["tree"]
+        self.stats = FitStats._from_dict(self.document.get("stats") or {})
+
+    shape = property(lambda self: tuple(self._native.shape), doc="Grid size (nx, ny, nz).")
+    origin = property(lambda self: tuple(self._native.origin),
+                      doc="Model coordinates of the grid's low corner.")
+    voxel_size = property(lambda self: self._native.voxel_size, doc="Voxel edge (model units).")
+    source = property(lambda self: self._native.source, doc="Input file name ('' for arrays).")
+    warning = property(lambda self: self._native.warning, doc="Mesh diagnosis ('' = fine).")
+
+    def target(self):
+        """The voxels that were fitted: bool array [i, j, k] = voxel (x, y, z); voxel (i, j, k)'s
+        centre is origin + (i + 0.5, j + 0.5, k + 0.5) * voxel_size."""
+        return self._native.target()
+
+    def raster(self):
+        """The solver's voxels of the tree on the same grid (bool array like target())."""
+        return self._native.raster()
+
+    def volume(self) -> float:
+        """The tree's volume as the solver sees it: its voxels times the voxel volume."""
+        return float(self.raster().sum()) * self.voxel_size ** 3
+
+    def to_json(self) -> str:
+        """The 3D JSON document as text."""
+        return self._native.to_json()
+
+    def to_dict(self) -> dict:
+        """A copy of the 3D JSON document (what the FreeCAD builder consumes)."""
+        import copy
+
+        return copy.deepcopy(self.document)
+
+    def to_scad(self, fn: int = 64) -> str:
+        """The tree as OpenSCAD 2021.01 source (model units); fn is $fn for round primitives."""
+        return self._native.to_scad(fn)
+
+    def __repr__(self) -> str:
+        return (f"FitResult3D(primitives={self.stats.primitives}, iou={self.stats.iou:.4f}, "
+                f"seconds={self.stats.seconds:.2f}, stop_reason={self.stats.stop_reason!r})")
+
+
+def _primitive_list_3d(primitives) -> str:
+    if primitives is None:
+        return ",".join(DEFAULT_PRIMITIVES_3D)
+    return _primitive_list(primitives)
+
+
+def _check_fit_args(cancel, progress):
+    if cancel is not None and not isinstance(cancel, CancelToken):
+        raise InputError("cancel must be a csgfit.CancelToken")
+    if progress is not None and not callable(progress):
+        raise InputError("progress must be callable or None")
+
+
+def load_mesh(path: Union[str, os.PathLike]):
+    """Reads an STL, OBJ, OFF or PLY mesh: (vertices float (n, 3), triangles int32 (m, 3)).
+    Raises InputError for a missing, truncated, mislabelled or empty file."""
+    return _csgfit.load_mesh(os.fspath(path))
+
+
+def load_voxels(path: Union[str, os.PathLike]):
+    """Reads a .npy or .binvox voxel grid: (bool array [i, j, k], origin (x, y, z), voxel_size)."""
+    return _csgfit.load_voxels(os.fspath(path))
+
+
+def voxelize(vertices, triangles, *, resolution: int = 0, voxel_size: float = 0.0):
+    """Solid voxels of a mesh as `csgfit mesh` makes them: (bool array [i, j, k], origin,
+    voxel_size, warning). resolution: voxels along the longest side; voxel_size: explicit edge;
+    both 0 = automatic (about 11 voxels across the mean wall thickness, 96..256 along the
+    longest side, at most 160^3 voxels)."""
+    import numpy as np
+
+    return _csgfit.voxelize(np.asarray(vertices, dtype=np.float64),
+                            np.asarray(triangles, dtype=np.int64), int(resolution),
+                            float(voxel_size))
+
+
+def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float = 30.0,
+             threads: int = 0, seed: int = 1, k: Optional[float] = None,
+             primitives: Union[None, str, Sequence[str]] = None,
+             progress: Optional[Callable[[FitProgress], Optional[bool]]] = None,
+             cancel: Optional[CancelToken] = None) -> FitResult3D:
+    """Fits a 3D CSG tree to a mesh or a voxel file, as `csgfit mesh` does.
+
+    mesh: a path (STL, OBJ, OFF, PLY; or .npy / .binvox voxel grids, fitted as they are) or a
+        (vertices (n, 3), triangles (m, 3)) pair of arrays, in the mesh's own units.
+    resolution / voxel_size: the voxelisation (see voxelize; both 0 = automatic).
+    time: wall-time budget in seconds (the search stops earlier when it converges).
+    threads: 0 = all cores. seed: same seed and threads, same tree (when it converges).
+    k: size weight per primitive in voxels; None = 100 per million grid voxels.
+    primitives: list or comma-separated names of PRIMITIVE_TYPES_3D, or "all"; boxes are
+        required. Default: all but the torus.
+    progress / cancel: as for fit_image (cancel stops the fit within a fraction of a second and
+        returns the best tree so far, stats.stop_reason == "cancelled").
+
+    The GIL is released while voxelising and solving. Raises InputError (a ValueError) for bad
+    input: unreadable files, wrong array shapes, NaN, indices out of range, no solid, options.
+    """
+    import numpy as np
+
+    _check_fit_args(cancel, progress)
+    kw = dict(k=-1.0 if k is None else float(k), primitives=_primitive_list_3d(primitives),
+              time=float(time), threads=int(threads), seed=int(seed), progress=progress,
+              cancel=cancel)
+    if isinstance(mesh, (str, bytes, os.PathLike)):
+        path = os.fsdecode(mesh)
+        source = os.path.basename(path)
+        if _csgfit.is_voxel_path(path):
+            voxels, origin, size = load_voxels(path)
+            return FitResult3D(_csgfit.fit_voxels(voxels.view(np.uint8), list(origin), size,
+                                                  source=source, **kw))
+        if not _csgfit.is_mesh_path(path):
+            raise InputError(f"unknown input format '{path}' (expected .stl, .obj, .off, .ply, "
+                             ".npy or .binvox)")
+        vertices, triangles = load_mesh(path)
+    else:
+        try:
+            vertices, triangles = mesh
+        except (TypeError, ValueError):
+            raise InputError("mesh must be a path or a (vertices, triangles) pair") from None
+        source = ""
+    try:
+        v = np.asarray(vertices, dtype=np.float64)
+        t = np.asarray(triangles, dtype=np.int64)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"mesh arrays: {e}") from None
+    return FitResult3D(_csgfit.fit_mesh_arrays(v, t, resolution=int(resolution),
+                                               voxel_size=float(voxel_size), source=source,
+                                               **kw))
+
+
+def fit_voxels(voxels, *, origin: Sequence[float] = (0.0, 0.0, 0.0), voxel_size: float = 1.0,
+               time: float = 30.0, threads: int = 0, seed: int = 1, k: Optional[float] = None,
+               primitives: Union[None, str, Sequence[str]] = None,
+               progress: Optional[Callable[[FitProgress], Optional[bool]]] = None,
+               cancel: Optional[CancelToken] = None, source: str = "") -> FitResult3D:
+    """Fits a 3D CSG tree to a voxel array.
+
+    voxels: 3D array, [i, j, k] = voxel (x, y, z), nonzero / True = solid (the .npy
+        convention). Voxel (i, j, k) is the cube from origin + (i, j, k) * voxel_size to
+        origin + (i + 1, j + 1, k + 1) * voxel_size. Other arguments as for fit_mesh.
+    """
+    import numpy as np
+
+    _check_fit_args(cancel, progress)
+    try:
+        a = np.asarray(voxels)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"voxels: {e}") from None
+    if a.dtype.kind not in "biuf":
+        raise InputError(f"unsupported voxel dtype {a.dtype} (bool or numbers, nonzero = solid)")
+    if a.dtype.kind == "f" and a.size and not np.isfinite(a).all():
+        raise InputError("voxels: NaN or infinite values")
+    if a.ndim != 3:
+        raise InputError(f"expected a 3D voxel array (nx x ny x nz), got {a.ndim} dimension"
+                         f"{'' if a.ndim == 1 else 's'}")
+    try:
+        origin = [float(x) for x in origin]
+    except (TypeError, ValueError):
+        raise InputError("origin must be three numbers") from None
+    return FitResult3D(_csgfit.fit_voxels(
+        np.ascontiguousarray(a != 0).view(np.uint8), origin, float(voxel_size),
+        k=-1.0 if k is None else float(k), primitives=_primitive_list_3d(primitives),
+        time=float(time), threads=int(threads), seed=int(seed), progress=progress,
+        cancel=cancel, source=str(source)))

@@ -99,7 +99,9 @@ std::size_t optimize_leaves(TreeEvaluator3D& ev, const LocalOptOptions3D& option
     for (std::size_t li = 0; li < leaf_indices.size(); ++li) {
       double& step = steps[li];
       if (step < min_step) continue;
-      if (std::chrono::steady_clock::now() >= options.deadline) return accepted;
+      if (std::chrono::steady_clock::now() >= options.deadline ||
+          (options.cancel && options.cancel->load(std::memory_order_relaxed)))
+        return accepted;
       active = true;
       const std::size_t leaf = leaf_indices[li];
       Param params[10];

@@ -516,4 +516,26 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
   return grid;
 }
 
+double auto_voxel_size(const MeshReport& report) {
+  // A plate of thickness t has 2V/A = t; as many as 96^3 voxels fill the box of a thin,
+  // elongated part, so its longest side gets more than 96.
+  double extent[3], longest = 0;
+  for (int a = 0; a < 3; ++a) {
+    extent[a] = report.bbox_max[a] - report.bbox_min[a];
+    longest = std::max(longest, extent[a]);
+  }
+  if (!(longest > 0) || !std::isfinite(longest)) return 0;
+  double fill = 1;
+  for (double e : extent) fill *= std::max(e, longest / 64) / longest;
+  double h = longest / std::clamp(std::round(96 / std::cbrt(fill)), 96.0, 224.0);
+  const double volume = std::fabs(report.signed_volume);
+  if (report.surface_area > 0 && volume > 0) h = std::min(h, 2 * volume / report.surface_area / 11);
+  h = std::max(h, longest / 256);
+  double cells = 1;
+  for (double e : extent) cells *= std::max(e, h) / h;
+  const double max_cells = 160.0 * 160.0 * 160.0;
+  if (cells > max_cells) h *= std::cbrt(cells / max_cells);
+  return std::isfinite(h) && h > 0 ? h : 0;
+}
+
 }  // namespace csgfit

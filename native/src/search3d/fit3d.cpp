@@ -261,6 +261,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
   const auto budget_end =
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.time_limit));
   pb.new_leaf_opt.deadline = pb.all_leaf_opt.deadline = budget_end;
+  pb.new_leaf_opt.cancel = pb.all_leaf_opt.cancel = cancel;
 
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::atomic<bool> stop_now{false};
@@ -291,6 +292,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     dopt.primitives.bits &= PrimitiveSet3D::matchable().bits;
     dopt.k = pb.k;
     dopt.time_limit = 0.3 * options.time_limit;
+    dopt.cancel = cancel;
     Node3D seed_tree = decompose3d(target, dopt);
     LocalOptOptions3D polish;
     polish.max_sweeps = 20;
@@ -298,6 +300,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     polish.min_step = 0.25;
     polish.deadline = start + std::chrono::duration_cast<Clock::duration>(
                                   std::chrono::duration<double>(0.6 * options.time_limit));
+    polish.cancel = cancel;
     const double polish_start = elapsed();
     {
       TreeEvaluator3D ev(target, seed_tree);
@@ -386,6 +389,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     // A little grace past the budget: the polish is what makes the best tree's numbers clean.
     polish.deadline = start + std::chrono::duration_cast<Clock::duration>(
                                   std::chrono::duration<double>(1.05 * options.time_limit));
+    polish.cancel = cancel;
     Node3D tree = best.tree;
     {
       TreeEvaluator3D ev(target, tree);

@@ -220,30 +220,6 @@ Quaternion dominant_frame(const TriangleMesh& mesh) {
   return q;
 }
 
-double fine_voxel_size(const MeshReport& report) {
-  // A voxel fit is exact only to half a voxel per face, so the voxels must be small against
-  // the part's walls: about 11 across its mean thickness 2V/A (a plate of thickness t has
-  // 2V/A = t), and at least the voxels of 96 along the longest side (more for thin, elongated
-  // boxes: as many as 96^3 fill the box), within 256 along the longest side and 160^3 voxels.
-  double extent[3], longest = 0;
-  for (int a = 0; a < 3; ++a) {
-    extent[a] = report.bbox_max[a] - report.bbox_min[a];
-    longest = std::max(longest, extent[a]);
-  }
-  if (!(longest > 0) || !std::isfinite(longest)) return 0;
-  double fill = 1;
-  for (double e : extent) fill *= std::max(e, longest / 64) / longest;
-  double h = longest / std::clamp(std::round(96 / std::cbrt(fill)), 96.0, 224.0);
-  const double volume = std::fabs(report.signed_volume);
-  if (report.surface_area > 0 && volume > 0) h = std::min(h, 2 * volume / report.surface_area / 11);
-  h = std::max(h, longest / 256);
-  double cells = 1;
-  for (double e : extent) cells *= std::max(e, h) / h;
-  const double max_cells = 160.0 * 160.0 * 160.0;
-  if (cells > max_cells) h *= std::cbrt(cells / max_cells);
-  return h;
-}
-
 MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
                        const MeshFitOptions& mesh_options, const ProgressCallback& progress,
                        const std::atomic<bool>* cancel) {
@@ -282,7 +258,7 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
     longest = std::max(longest, extent[a]);
   }
   for (double e : extent) box *= std::max(e, longest / 64);
-  const double h_fine = fine_voxel_size(local_report);
+  const double h_fine = auto_voxel_size(local_report);
   double h_search = h_fine;
   if (mesh_options.resolution > 0) {
     h_search = longest / mesh_options.resolution;

@@ -268,6 +268,7 @@ class Decomposer3D {
       : options_(options), start_(std::chrono::steady_clock::now()) {}
 
   bool out_of_time() const {
+    if (options_.cancel && options_.cancel->load(std::memory_order_relaxed)) return true;
     return options_.time_limit > 0 &&
            std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >
                options_.time_limit;

@@ -1,0 +1,179 @@
+"""Tests of the csgfit module's 3D fit (fit_voxels, fit_mesh, voxelize) on voxel shapes and a
+mesh the tests make themselves (run with /usr/bin/python3 -m pytest tests/python)."""
+
+import json
+import os
+import struct
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.environ.get("CSGFIT_BUILD_DIR", os.path.join(REPO, "build"))
+sys.path.insert(0, os.path.join(BUILD, "python"))
+try:
+    import csgfit
+except ImportError as e:  # pragma: no cover - depends on the build
+    pytest.skip(f"csgfit module not built in {BUILD}/python ({e})", allow_module_level=True)
+
+
+def box_minus_sphere(n=36):
+    """[i, j, k] = voxel (x, y, z): a 28 x 20 x 16 block with a spherical pocket."""
+    i, j, k = np.mgrid[0:n, 0:n, 0:n] + 0.5
+    block = (np.abs(i - 18) < 14) & (np.abs(j - 18) < 10) & (np.abs(k - 18) < 8)
+    pocket = (i - 26) ** 2 + (j - 18) ** 2 + (k - 26) ** 2 < 8 ** 2
+    return block & ~pocket
+
+
+def ball(n=30, r=11.0):
+    i, j, k = np.mgrid[0:n, 0:n, 0:n] + 0.5
+    return (i - n / 2) ** 2 + (j - n / 2) ** 2 + (k - n / 2) ** 2 < r * r
+
+
+def iou(a, b):
+    return np.logical_and(a, b).sum() / np.logical_or(a, b).sum()
+
+
+def test_voxel_fit_returns_the_3d_document_and_its_voxels():
+    vox = box_minus_sphere()
+    seen = []
+    r = csgfit.fit_voxels(vox, origin=(10.0, -5.0, 2.0), voxel_size=0.5, time=30, seed=1,
+                          threads=2, progress=lambda p: seen.append(p.fraction))
+    assert seen and all(0 <= f <= 1 for f in seen)
+    assert r.stats.iou >= 0.98 and r.stats.primitives <= 4
+    assert r.stats.stop_reason == "converged"
+    doc = r.to_dict()
+    assert doc["schema"] == "csgfit/1" and doc["dimension"] == 3
+    assert doc["grid"] == {"nx": 36, "ny": 36, "nz": 36, "origin": [10.0, -5.0, 2.0],
+                           "voxel_size": 0.5, "frame": [1.0, 0.0, 0.0, 0.0]}
+    assert json.loads(r.to_json()) == doc
+    assert doc["tree"]["op"] == "difference"
+    assert doc["tree"]["children"][0]["type"] == "box"
+    # The block's centre in model units: origin + 18 voxels * 0.5.
+    assert doc["tree"]["children"][0]["center"] == pytest.approx([19.0, 4.0, 11.0], abs=0.3)
+    target, raster = r.target(), r.raster()
+    assert target.shape == raster.shape == vox.shape and raster.dtype == np.bool_
+    assert np.array_equal(target, vox)
+    assert iou(raster, vox) == pytest.approx(r.stats.iou, abs=1e-9)
+    assert r.volume() == pytest.approx(raster.sum() * 0.125)
+    assert "difference()" in r.to_scad() or "difference" in r.to_scad()
+
+
+def test_ball_is_one_sphere_or_ellipsoid():
+    r = csgfit.fit_voxels(ball(), time=20, seed=2, threads=2)
+    assert r.stats.iou >= 0.97
+    assert r.stats.primitives == 1 and r.tree["type"] in ("sphere", "ellipsoid")
+
+
+def test_same_seed_same_tree():
+    vox = box_minus_sphere(30)
+    a = csgfit.fit_voxels(vox, time=30, seed=7, threads=2)
+    b = csgfit.fit_voxels(vox, time=30, seed=7, threads=2)
+    assert a.stats.stop_reason == b.stats.stop_reason == "converged"
+    assert a.tree == b.tree
+
+
+def write_stl(path, vertices, triangles):
+    with open(path, "wb") as f:
+        f.write(b"\0" * 80 + struct.pack("<I", len(triangles)))
+        for t in triangles:
+            f.write(struct.pack("<12fH", 0, 0, 0, *vertices[t[0]], *vertices[t[1]],
+                                *vertices[t[2]], 0))
+
+
+def cube_mesh(lo, hi):
+    x0, y0, z0 = lo
+    x1, y1, z1 = hi
+    v = np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], float)
+    # Outward-facing (counter-clockwise seen from outside).
+    t = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                  [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]])
+    return v, t
+
+
+def test_mesh_arrays_and_file_give_the_same_fit(tmp_path):
+    v, t = cube_mesh((1, 2, 3), (21, 12, 8))
+    path = tmp_path / "slab.stl"
+    write_stl(path, v, t)
+    a = csgfit.fit_mesh((v, t), resolution=48, time=20, seed=1, threads=2)
+    b = csgfit.fit_mesh(str(path), resolution=48, time=20, seed=1, threads=2)
+    assert b.source == "slab.stl" and a.source == ""
+    assert a.tree == b.tree and a.warning == ""
+    assert a.stats.iou >= 0.99 and a.tree["type"] == "box"
+    assert a.volume() == pytest.approx(20 * 10 * 5, rel=0.1)
+    vox, origin, size, warning = csgfit.voxelize(v, t, resolution=48)
+    assert vox.shape[0] == 48 + 2 and size == pytest.approx(20 / 48)
+    assert np.array_equal(vox, a.target()) and origin == pytest.approx(a.origin)
+    lv, lt = csgfit.load_mesh(path)
+    assert lv.shape == (8, 3) and lt.shape == (12, 3)
+
+
+def test_open_mesh_is_fitted_with_a_warning():
+    v, t = cube_mesh((0, 0, 0), (10, 10, 10))
+    r = csgfit.fit_mesh((v, t[:-1]), resolution=32, time=10, seed=1, threads=2)
+    assert r.warning and r.stats.iou >= 0.95
+
+
+def test_cancel_stops_a_long_fit_within_a_second():
+    rng = np.random.default_rng(3)
+    i, j, k = np.mgrid[0:96, 0:96, 0:96] + 0.5
+    vox = np.zeros((96, 96, 96), bool)
+    for _ in range(30):  # many blobs: nowhere near convergence in a second
+        c, rad = rng.uniform(15, 81, 3), rng.uniform(5, 14)
+        vox ^= (i - c[0]) ** 2 + (j - c[1]) ** 2 + (k - c[2]) ** 2 < rad * rad
+    token = csgfit.CancelToken()
+    stamp = []
+    threading.Timer(1.0, lambda: (stamp.append(time.monotonic()), token.cancel())).start()
+    r = csgfit.fit_voxels(vox, time=60, threads=2, cancel=token)
+    latency = time.monotonic() - stamp[0]
+    assert r.stats.stop_reason == "cancelled"
+    assert latency < 1.0, latency
+    assert r.stats.primitives >= 1  # the best tree so far
+
+
+def test_progress_returning_false_cancels():
+    r = csgfit.fit_voxels(box_minus_sphere(), time=30, threads=2, progress=lambda p: False)
+    assert r.stats.stop_reason == "cancelled"
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: csgfit.fit_voxels(np.zeros((8, 8, 8), bool)), "no solid"),
+    (lambda: csgfit.fit_voxels(np.ones((8, 8), bool)), "3D voxel array"),
+    (lambda: csgfit.fit_voxels(np.full((4, 4, 4), np.nan)), "NaN"),
+    (lambda: csgfit.fit_voxels(ball(), voxel_size=0), "voxel_size"),
+    (lambda: csgfit.fit_voxels(ball(), origin=(0, 0)), "origin"),
+    (lambda: csgfit.fit_voxels(ball(), primitives=["sphere"]), "boxes"),
+    (lambda: csgfit.fit_voxels(ball(), primitives="box,hexagon"), "hexagon"),
+    (lambda: csgfit.fit_voxels(ball(), time=0), "time"),
+    (lambda: csgfit.fit_mesh("/nonexistent/part.stl"), "part.stl"),
+    (lambda: csgfit.fit_mesh("/tmp/part.xyz"), "unknown input format"),
+    (lambda: csgfit.fit_mesh((np.zeros((3, 3)), np.array([[0, 1, 5]]))), "vertex 5"),
+    (lambda: csgfit.fit_mesh((np.full((3, 3), np.nan), np.array([[0, 1, 2]]))), "not finite"),
+    (lambda: csgfit.fit_mesh((np.zeros((3, 2)), np.array([[0, 1, 2]]))), r"\(n, 3\)"),
+    (lambda: csgfit.fit_mesh(42), "path or a"),
+])
+def test_bad_input_raises_input_error(call, match):
+    with pytest.raises(csgfit.InputError, match=match):
+        call()
+
+
+def test_bad_file_contents(tmp_path):
+    bad = tmp_path / "fake.stl"
+    bad.write_bytes(b"\x89PNG\r\n\x1a\n" + b"\0" * 100)
+    with pytest.raises(csgfit.InputError, match="fake.stl"):
+        csgfit.fit_mesh(str(bad))
+    npy = tmp_path / "flat.npy"
+    np.save(npy, np.ones((4, 4), bool))
+    with pytest.raises(csgfit.InputError, match="flat.npy"):
+        csgfit.fit_mesh(str(npy))
+
+
+def test_voxel_file_is_fitted_as_it_is(tmp_path):
+    path = tmp_path / "ball.npy"
+    np.save(path, ball())
+    r = csgfit.fit_mesh(str(path), time=20, seed=2, threads=2)
+    assert r.source == "ball.npy" and r.voxel_size == 1.0 and r.origin == (0.0, 0.0, 0.0)
+    assert np.array_equal(r.target(), ball()) and r.stats.iou >= 0.97
