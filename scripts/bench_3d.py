@@ -169,44 +169,30 @@ def cached_stl(scad, stl, timeout):
 # One model
 
 
-def bench_one(entry, args):
-    name = entry["name"]
-    row = {"name": name, "kind": entry["kind"], "status": "ok", "error": "",
-           "gt_primitives": entry.get("gt_primitives") or ""}
-    errors = []
+def prepare_one(entry, args):
+    """The model's input mesh (a synthetic model's ground truth is rendered once and cached)."""
+    row = {"name": entry["name"], "kind": entry["kind"], "status": "ok", "error": "",
+           "gt_primitives": entry.get("gt_primitives") or "", "_errors": []}
     cache = os.path.join(args.out, "cache")
     os.makedirs(cache, exist_ok=True)
-
-    # The input mesh (a synthetic model's ground truth is rendered once and cached).
     if entry.get("mesh"):
-        mesh = os.path.join(args.bench_dir, entry["mesh"])
+        row["_mesh"] = os.path.join(args.bench_dir, entry["mesh"])
     else:
-        mesh = cached_stl(os.path.join(args.bench_dir, entry["gt"]),
-                          os.path.join(cache, name + ".gt.stl"), args.openscad_timeout)
-    target = read_mesh(mesh)
-    row["input_triangles"] = len(target)
+        row["_mesh"] = cached_stl(os.path.join(args.bench_dir, entry["gt"]),
+                                  os.path.join(cache, entry["name"] + ".gt.stl"),
+                                  args.openscad_timeout)
+    return row
 
-    # InverseCSG's published program, scored like ours (independent of our CLI).
-    sol = entry.get("inversecsg_solution")
-    if sol and os.path.exists(os.path.join(args.bench_dir, sol)):
-        incl = entry.get("inversecsg_primitives_incl_bbox")
-        if incl is not None:
-            row["icsg_primitives_incl_bbox"] = incl
-            row["icsg_primitives"] = incl - 1
-        try:
-            stl = cached_stl(os.path.join(args.bench_dir, sol),
-                             os.path.join(cache, name + ".inversecsg.stl"),
-                             args.openscad_timeout)
-            row["icsg_iou"], _ = volume_iou(target, read_mesh(stl), args.grid)
-        except Exception as exc:  # recorded, never fatal
-            errors.append("InverseCSG: %s" % exc)
 
+def fit_one(entry, row, args):
+    """csgfit mesh on the model; nothing else runs in its time, so --time is what it gets."""
+    name = entry["name"]
     scad = os.path.join(args.out, name + ".scad")
     stl = os.path.join(args.out, name + ".stl")
     for stale in (scad, stl):
         if os.path.exists(stale):
             os.remove(stale)
-    cmd = [args.cli, "mesh", mesh, "-o", scad, "--time", "%g" % args.time]
+    cmd = [args.cli, "mesh", row["_mesh"], "-o", scad, "--time", "%g" % args.time]
     cmd += shlex.split(args.extra_args)
     row["command"] = " ".join(shlex.quote(c) for c in cmd)
     t0 = time.monotonic()
@@ -232,31 +218,55 @@ def bench_one(entry, args):
         row["wall_s"] = time.monotonic() - t0
         row["status"] = "cli-timeout"
         row["scad_rendered"] = "no"
-        row["error"] = "; ".join(errors + ["csgfit did not finish"])
+        row["_errors"].append("csgfit did not finish")
         return row
     except Exception as exc:
         row["status"] = "cli-fail"
         row["scad_rendered"] = "no"
-        row["error"] = "; ".join(errors + [str(exc)])
+        row["_errors"].append(str(exc))
         return row
     if row["solver_primitives"] == "":
         with open(scad) as f:
             row["solver_primitives"] = len(SCAD_PRIMITIVE_RE.findall(f.read()))
+    return row
 
-    try:
-        openscad_stl(scad, stl, args.openscad_timeout)
-        row["scad_rendered"] = "yes"
-    except Exception as exc:
-        row["scad_rendered"] = "no"
-        row["status"] = "openscad-fail"
-        errors.append(str(exc))
-    if row["scad_rendered"] == "yes":
+
+def score_one(entry, row, args):
+    """OpenSCAD renders our .scad and InverseCSG's program; both are scored against the input."""
+    name = entry["name"]
+    errors = row.pop("_errors", [])
+    target = read_mesh(row.pop("_mesh"))
+    row["input_triangles"] = len(target)
+    sol = entry.get("inversecsg_solution")
+    if sol and os.path.exists(os.path.join(args.bench_dir, sol)):
+        incl = entry.get("inversecsg_primitives_incl_bbox")
+        if incl is not None:
+            row["icsg_primitives_incl_bbox"] = incl
+            row["icsg_primitives"] = incl - 1
         try:
-            row["iou"], n = volume_iou(target, read_mesh(stl), args.grid)
-            row["grid"] = "x".join(map(str, n))
+            stl = cached_stl(os.path.join(args.bench_dir, sol),
+                             os.path.join(args.out, "cache", name + ".inversecsg.stl"),
+                             args.openscad_timeout)
+            row["icsg_iou"], _ = volume_iou(target, read_mesh(stl), args.grid)
+        except Exception as exc:  # recorded, never fatal
+            errors.append("InverseCSG: %s" % exc)
+    if row["status"] == "ok":
+        scad = os.path.join(args.out, name + ".scad")
+        stl = os.path.join(args.out, name + ".stl")
+        try:
+            openscad_stl(scad, stl, args.openscad_timeout)
+            row["scad_rendered"] = "yes"
         except Exception as exc:
-            row["status"] = "iou-fail"
-            errors.append("IoU: %s" % exc)
+            row["scad_rendered"] = "no"
+            row["status"] = "openscad-fail"
+            errors.append(str(exc))
+        if row["scad_rendered"] == "yes":
+            try:
+                row["iou"], n = volume_iou(target, read_mesh(stl), args.grid)
+                row["grid"] = "x".join(map(str, n))
+            except Exception as exc:
+                row["status"] = "iou-fail"
+                errors.append("IoU: %s" % exc)
     row["error"] = "; ".join(errors)
     return row
 
@@ -467,17 +477,26 @@ def main(argv=None):
         return 2
     os.makedirs(args.out, exist_ok=True)
 
-    def task(entry):
+    # Three passes, so that OpenSCAD's renders (minutes for a big tree) never share the cores
+    # with a timed fit: inputs, then every fit, then every render and score.
+    def guarded(fn, entry, *rest):
         try:
-            return bench_one(entry, args)
+            return fn(entry, *rest, args)
         except Exception as exc:  # a bad model must not abort the run
             return {"name": entry["name"], "kind": entry["kind"], "status": "error",
                     "scad_rendered": "no", "error": str(exc)}
 
     t_start = time.monotonic()
+    workers = max(1, args.jobs)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+        prepared = list(pool.map(lambda e: guarded(prepare_one, e), entries))
+    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+        fitted = list(pool.map(lambda er: er[1] if "_mesh" not in er[1] else guarded(fit_one, *er),
+                               zip(entries, prepared)))
     results = {}
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        futures = {pool.submit(task, e): e["name"] for e in entries}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+        futures = {pool.submit(lambda er: er[1] if "_mesh" not in er[1] else guarded(score_one, *er),
+                               (e, r)): e["name"] for e, r in zip(entries, fitted)}
         for fut in concurrent.futures.as_completed(futures):
             row = fut.result()
             results[row["name"]] = row

@@ -90,6 +90,9 @@ struct Problem {
   std::vector<PrimitiveKind3D> kinds;
   PrimitiveSet3D primitives;
   LocalOptOptions3D new_leaf_opt, all_leaf_opt;
+  // Round primitives matched to the whole target: what INT intersects a tree with to trim its
+  // outline (a cube intersected with a sphere, a plate with a cylinder).
+  std::vector<Primitive3D> hulls;
 };
 
 class Island {
@@ -200,12 +203,29 @@ class Island {
     return true;
   }
 
+  // INT: the tree (or a subtree) intersected with a round primitive matched to the whole
+  // target, a little larger than the match so that it trims rather than eats.
+  bool intersect(Node3D& tree, std::vector<Primitive3D>& fresh) {
+    if (pb_.hulls.empty()) return false;
+    Primitive3D hull = pb_.hulls[pick(rng_, pb_.hulls.size())];
+    const double grow = uniform(rng_, 1.0, 1.3);
+    for (double& d : hull.dims) d *= grow;
+    hull.normalize();
+    fresh.push_back(hull);
+    const std::size_t nodes = tree.node_count();
+    Node3D* at = (rng_() % 4 != 0) ? &tree : node_at(tree, pick(rng_, nodes));
+    Node3D old = std::move(*at);
+    *at = Node3D::op(NodeKind::Intersection, {std::move(old), Node3D::leaf(hull)});
+    return true;
+  }
+
   Candidate perturb(const Candidate& parent) {
     Node3D tree = parent.tree;
     std::vector<Primitive3D> fresh;
     const double r = uniform(rng_, 0, 1);
     bool done = false;
-    if (r < 0.5) done = add_at_residual(tree, parent.result, fresh);
+    if (r < 0.47) done = add_at_residual(tree, parent.result, fresh);
+    else if (r < 0.5) done = intersect(tree, fresh);
     else if (r < 0.7) done = cut(tree);
     else if (r < 0.85) done = change_kind(tree, fresh, false);
     if (!done) done = change_kind(tree, fresh, true);
@@ -257,6 +277,12 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
   pb.all_leaf_opt.max_sweeps = 2;
   pb.all_leaf_opt.initial_step = 0.5;
   pb.all_leaf_opt.min_step = 0.25;
+  for (PrimitiveKind3D kind : {PrimitiveKind3D::Sphere, PrimitiveKind3D::Cylinder, PrimitiveKind3D::Ellipsoid}) {
+    if (!options.primitives.has(kind)) continue;
+    PrimitiveSet3D only;
+    only.add(kind);
+    if (auto m = match_region3d(target, only)) pb.hulls.push_back(m->primitive);
+  }
   // --time bounds the wall time: no single tree's optimisation may run past it.
   const auto budget_end =
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.time_limit));
