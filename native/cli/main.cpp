@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cmath>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -294,9 +295,13 @@ int main(int argc, char** argv) {
           throw InputError("no solid found in '" + mesh_in + "' (no voxel is set)");
         result = fit_voxels(target, options, on_progress);
       } else if (is_mesh_path(mesh_in)) {
+        const auto read_start = std::chrono::steady_clock::now();
         const TriangleMesh mesh = read_mesh(mesh_in);
         const std::string problems = describe_mesh_problems(analyze_mesh(mesh));
         if (!problems.empty() && !mesh_quiet) std::cerr << "csgfit: warning: " << problems << "\n";
+        // --time is the whole run: reading the mesh and writing the result come out of it.
+        const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
+        options.time_limit = std::max(0.05 * mesh_time, mesh_time - spent - 0.1);
         MeshFitOptions mopt;
         mopt.resolution = mesh_resolution;
         mopt.align = !mesh_no_align;

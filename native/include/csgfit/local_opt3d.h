@@ -38,7 +38,8 @@ struct SurfaceFitOptions3D {
   int rounds = 3;              ///< sample re-assignments
   int iterations = 8;          ///< Levenberg-Marquardt steps per primitive and round
   double inlier = 1.5;         ///< samples further than this (voxels) from every primitive are ignored
-  /// A refined primitive is kept unless the voxel mismatch grows by more than this many voxels.
+  /// Refined primitives are kept while the voxel mismatch stays within this many voxels of
+  /// what it was before the refinement (one allowance for all of them).
   double voxel_slack = 0;
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
@@ -48,13 +49,12 @@ struct SurfaceFitOptions3D {
 /// sample goes to the primitive whose surface is nearest (within `inlier` voxels), and each
 /// primitive's parameters (centre, free dimensions, turns, apex) take Levenberg-Marquardt steps
 /// on the sum of its samples' squared signed distances. A refined primitive replaces the old
-/// one only if the voxel mismatch stays within `voxel_slack` of what it was. Returns the
+/// one only if the voxel mismatch stays within `voxel_slack` of what it was at the start. Returns the
 /// number of primitives changed.
 std::size_t refine_to_surface(TreeEvaluator3D& evaluator, const std::vector<Vec3>& samples,
                               const SurfaceFitOptions3D& options = {});
 
-/// Snaps to what designers use where it costs at most `voxel_slack` mismatched voxels per
-/// snap: a primitive within 4 degrees of the grid's axes becomes axis-aligned (for cylinders,
+/// Snaps to what designers use where it costs at most `voxel_slack` mismatched voxels in all: a primitive within 4 degrees of the grid's axes becomes axis-aligned (for cylinders,
 /// cones and tori only their axis counts), and radii of cylinders and spheres within 2 % of
 /// one another become equal. Returns the number of snaps kept.
 std::size_t snap_to_design_values(TreeEvaluator3D& evaluator, double voxel_slack);

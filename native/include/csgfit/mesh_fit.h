@@ -22,7 +22,7 @@ struct MeshFitOptions {
   /// Re-optimise the searched tree's parameters on the finer grid of auto_voxel_size (about
   /// 11 voxels across the part's mean wall thickness) and refine them against surface samples
   /// in this share of the time budget (half of it when the grids are alike); 0 = neither.
-  double polish_share = 0.15;
+  double polish_share = 0.25;
 };
 
 /// A mesh fit: the tree in the mesh's coordinates and how it was obtained.

@@ -240,6 +240,9 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
   const std::size_t n = ev.leaf_count();
   std::size_t changed = 0;
   if (n == 0 || samples.empty()) return 0;
+  // The slack is one allowance for the whole refinement, not per primitive: spent a little at
+  // a time by a hundred primitives it would add up to a visible loss.
+  const double ceiling = static_cast<double>(ev.mismatch().total()) + options.voxel_slack;
   for (int round = 0; round < options.rounds; ++round) {
     std::vector<std::vector<const Vec3*>> assigned(n);
     const double limit = options.inlier * voxel;
@@ -264,8 +267,7 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
       const Primitive3D refined = fit_to_points(ev.leaf(i), assigned[i], voxel, options.iterations);
       if (refined == ev.leaf(i)) continue;
       const Mismatch m = ev.try_leaf(i, refined);
-      if (static_cast<double>(m.total()) > static_cast<double>(ev.mismatch().total()) + options.voxel_slack)
-        continue;
+      if (static_cast<double>(m.total()) > ceiling) continue;
       ev.leaf(i) = refined;
       ev.update_leaf(i);
       ++round_changes;
@@ -278,11 +280,12 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
 
 std::size_t snap_to_design_values(TreeEvaluator3D& ev, double voxel_slack) {
   std::size_t kept = 0;
+  // One allowance for all snaps together (see refine_to_surface).
+  const double ceiling = static_cast<double>(ev.mismatch().total()) + voxel_slack;
   auto attempt = [&](std::size_t i, const Primitive3D& p) {
     if (p == ev.leaf(i)) return false;
     const Mismatch m = ev.try_leaf(i, p);
-    if (static_cast<double>(m.total()) > static_cast<double>(ev.mismatch().total()) + voxel_slack)
-      return false;
+    if (static_cast<double>(m.total()) > ceiling) return false;
     ev.leaf(i) = p;
     ev.update_leaf(i);
     ++kept;

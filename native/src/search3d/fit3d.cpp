@@ -412,9 +412,9 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     polish.max_sweeps = 20;
     polish.initial_step = 0.5;
     polish.min_step = 1.0 / 16;
-    // A little grace past the budget: the polish is what makes the best tree's numbers clean.
+    // The polish ends with the budget (the search stopped early enough to leave it time).
     polish.deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                  std::chrono::duration<double>(1.05 * options.time_limit));
+                                  std::chrono::duration<double>(options.time_limit));
     polish.cancel = cancel;
     Node3D tree = best.tree;
     {

@@ -285,13 +285,17 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
   const std::size_t search_evaluations = out.fit.stats.evaluations;
   const bool stopped = out.fit.stats.stop_reason == "cancelled";
 
-  if (!stopped && elapsed() < options.time_limit) {
+  if (!stopped && elapsed() < 0.98 * options.time_limit) {
+    // The last step (snapping) and the caller's writing need a moment after the deadline.
     const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double>(options.time_limit));
+                                      std::chrono::duration<double>(0.98 * options.time_limit));
     VoxelGrid fine;
     if (polish) {
       VoxelizeOptions fopt;
       fopt.voxel_size = h_fine;
+      // As wide a margin as the coarse grid's: a face the search left anywhere in a coarse
+      // voxel of margin must not count as beyond the fine grid (Mismatch::outside).
+      fopt.margin = 1 + static_cast<int>(std::ceil(coarse.voxel_size() / h_fine));
       fine = voxelize(local, fopt);
     }
     const bool on_fine = polish && fine.count() > 0;
@@ -299,6 +303,16 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
     const double ratio = coarse.voxel_size() / grid.voxel_size();
     Node3D tree = out.fit.tree;
     TreeEvaluator3D ev(grid, tree);
+    // Sub-voxel accuracy first: least squares against points of the mesh's surface puts the
+    // coarse search's faces where the surface is (the coarse voxels only knew them to half a
+    // voxel), then the pattern search on the fine voxels, then the snaps that cost (almost)
+    // nothing. Refinement and snaps may give up a few voxels in all: the voxels see the surface
+    // to within half a voxel, the samples see it exactly.
+    const double slack = std::max(4.0, 5e-4 * static_cast<double>(grid.count()));
+    SurfaceFitOptions3D sf;
+    sf.voxel_slack = slack;
+    sf.deadline = deadline;
+    refine_to_surface(ev, surface_samples(local, 30000, options.seed), sf);
     if (on_fine) {
       // No prune here: the search pruned at its k already, and a prune rebuilds the fine
       // evaluator once per primitive removed (seconds past the budget on big trees).
@@ -309,14 +323,6 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
       lo.deadline = deadline;
       optimize_leaves(ev, lo);
     }
-    // Sub-voxel accuracy: least squares against points of the mesh's surface, then the snaps
-    // that cost (almost) nothing. Both may give up a few voxels at most: the voxels only see
-    // the surface to within half a voxel, the samples see it exactly.
-    const double slack = std::max(4.0, 2e-4 * static_cast<double>(grid.count()));
-    SurfaceFitOptions3D sf;
-    sf.voxel_slack = slack;
-    sf.deadline = deadline;
-    refine_to_surface(ev, surface_samples(local, 30000, options.seed), sf);
     snap_to_design_values(ev, slack);
     const Mismatch& m = ev.mismatch();
     FitStats& s = out.fit.stats;
