@@ -15,6 +15,8 @@ packages=(
   build-essential cmake pkg-config
   libstb-dev nlohmann-json3-dev libcli11-dev libeigen3-dev
   libgtest-dev libbenchmark-dev
+  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
+  libtbb-dev  # OCCT's CMake targets link libtbb.so, which libocct-*-dev does not pull in
   python3 python3-dev python3-numpy python3-pytest python3-pil pybind11-dev python3-pybind11
   openscad potrace freecad xvfb xauth
 )
