@@ -25,8 +25,8 @@ TopoDS_Shape make_shape(const Node& tree, const ModelFrame& frame);
 /// Exact volume of a shape (BRepGProp::VolumeProperties).
 double shape_volume(const TopoDS_Shape& shape);
 
-/// Writes a shape as AP214 STEP in mm through a temporary file and a rename; throws InputError.
-void write_step_shape(const TopoDS_Shape& shape, const std::string& path,
-                      const std::string& product_name);
+/// Writes a shape as AP214 STEP in mm through a temporary file and a rename, `name` being the
+/// STEP product's name; throws InputError.
+void write_step_shape(const TopoDS_Shape& shape, const std::string& path, const std::string& name);
 
 }  // namespace csgfit

@@ -330,6 +330,12 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+// The part's name in CAD trees: the input's stem ("bracket" for bracket.png).
+std::string product_name(const std::string& source) {
+  const std::string stem = fs::path(source).stem().string();
+  return stem.empty() ? "csgfit" : stem;
+}
+
 }  // namespace
 
 TopoDS_Shape make_shape(const Primitive3D& p) {
@@ -352,8 +358,8 @@ TopoDS_Shape make_shape(const Node& tree, const ModelFrame& frame) {
   if (!std::isfinite(frame.thickness) || frame.thickness < 0 || frame.thickness > kMaxMagnitude)
     throw InputError("cannot write STEP: thickness must be a finite number >= 0");
   if (frame.thickness == 0)
-    throw InputError("cannot write STEP: STEP needs a thickness (a 2D result is a flat drawing; "
-                     "give --thickness)");
+    throw InputError("cannot write STEP: STEP needs a thickness (this 2D result is flat; fit it "
+                     "with --thickness)");
   if (!std::isfinite(frame.pixel_size) || !(frame.pixel_size > 0) || frame.pixel_size > kMaxMagnitude)
     throw InputError("cannot write STEP: pixel size must be a positive finite number");
   return occt("building the solid", [&] {
@@ -376,7 +382,7 @@ double shape_volume(const TopoDS_Shape& shape) {
 }
 
 void write_step_shape(const TopoDS_Shape& shape, const std::string& path,
-                      const std::string& product_name) {
+                      const std::string& name) {
   const fs::path target(path);
   const fs::path dir = fs::absolute(target).parent_path();
   std::error_code ec;
@@ -409,7 +415,7 @@ void write_step_shape(const TopoDS_Shape& shape, const std::string& path,
       Interface_Static::SetCVal("write.step.schema", "AP214IS");
       Interface_Static::SetCVal("write.step.unit", "MM");
       Interface_Static::SetCVal("xstep.cascade.unit", "MM");
-      Interface_Static::SetCVal("write.step.product.name", product_name.c_str());
+      Interface_Static::SetCVal("write.step.product.name", name.c_str());
       STEPControl_Writer writer;
       if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone)
         throw InputError("cannot write '" + path + "': OpenCASCADE could not translate the solid");
@@ -426,13 +432,13 @@ void write_step_shape(const TopoDS_Shape& shape, const std::string& path,
 }
 
 void write_step(const Node3D& tree, const std::string& path, const StepOptions& options) {
-  write_step_shape(make_shape(tree), path, options.source.empty() ? "csgfit" : options.source);
+  write_step_shape(make_shape(tree), path, product_name(options.source));
 }
 
 void write_step(const Node& tree, const ModelFrame& frame, const std::string& path,
                 const StepOptions& options) {
-  const std::string name = !options.source.empty() ? options.source : !frame.source.empty() ? frame.source : "csgfit";
-  write_step_shape(make_shape(tree, frame), path, name);
+  write_step_shape(make_shape(tree, frame), path,
+                   product_name(options.source.empty() ? frame.source : options.source));
 }
 
 double step_volume(const Node3D& tree) { return shape_volume(make_shape(tree)); }

@@ -169,6 +169,25 @@ void write_result(const FitResult& result, const ModelFrame& frame, const std::s
   }
 }
 
+// A 3D document (csgfit mesh -o .json) to .scad or .step; fn = 0 means the mesh command's 64.
+void export_3d(const std::string& json_text, const std::string& out, int fn) {
+  std::string source;
+  const Node3D tree = from_json3d(json_text, &source);
+  const OutputFormat format = output_format(out);
+  if (format == OutputFormat::Scad) {
+    ScadOptions3D scad;
+    if (fn > 0) scad.fn = fn;
+    scad.source = source;
+    write_file_atomic(out, to_scad(tree, scad));
+  } else if (format == OutputFormat::Step) {
+    StepOptions step;
+    step.source = source;
+    write_step(tree, out, step);
+  } else {
+    throw InputError("cannot write '" + out + "': a 3D result exports to .scad or .step");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -270,8 +289,13 @@ int main(int argc, char** argv) {
     if (*exporter) {
       output_format(ex_out);
       check_writable(ex_out);
+      const std::string text = read_text_file(ex_in);
+      if (is_json3d(text)) {
+        export_3d(text, ex_out, exporter->count("--fn") ? fn : 0);
+        return 0;
+      }
       ModelFrame frame;
-      FitResult result = from_json(read_text_file(ex_in), &frame);
+      FitResult result = from_json(text, &frame);
       write_result(result, frame, ex_out, fn);
       return 0;
     }
