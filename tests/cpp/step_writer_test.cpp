@@ -304,6 +304,25 @@ TEST(StepWriter, BadInputIsOneLineAndLeavesTheFileAlone) {
   EXPECT_THROW(write_step(ok, dir.path.string()), InputError);  // a folder
 }
 
+TEST(StepWriter, DisjointPiecesStaySeparateSolidsButSliversGo) {
+  // Two boxes apart: two solids, nothing lost.
+  const Node3D two = Node3D::op(NodeKind::Union, {Node3D::leaf(Primitive3D::box(0, 0, 0, 2, 2, 2)),
+                                                  Node3D::leaf(Primitive3D::box(5, 0, 0, 1, 1, 1))});
+  const TopoDS_Shape shape = make_shape(two);
+  int solids = 0;
+  for (TopExp_Explorer ex(shape, TopAbs_SOLID); ex.More(); ex.Next()) ++solids;
+  EXPECT_EQ(solids, 2);
+  EXPECT_NEAR(shape_volume(shape), 9.0, 1e-9);
+  // A 1e-3 cube beside a 1000 mm^3 one (1e-12 of it): a sliver, dropped.
+  const Node3D sliver = Node3D::op(NodeKind::Union, {Node3D::leaf(Primitive3D::box(0, 0, 0, 10, 10, 10)),
+                                                     Node3D::leaf(Primitive3D::box(8, 0, 0, 1e-3, 1e-3, 1e-3))});
+  const TopoDS_Shape one = make_shape(sliver);
+  solids = 0;
+  for (TopExp_Explorer ex(one, TopAbs_SOLID); ex.More(); ex.Next()) ++solids;
+  EXPECT_EQ(solids, 1);
+  EXPECT_NEAR(shape_volume(one), 1000.0, 1e-6);
+}
+
 TEST(StepWriter, StepPathsAreRecognised) {
   EXPECT_TRUE(is_step_path("a/b.step"));
   EXPECT_TRUE(is_step_path("B.STP"));
