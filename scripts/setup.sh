@@ -55,6 +55,8 @@ run_tests() {
   cmake -S "$repo" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCSGFIT_SANITIZE=ON \
     -DCSGFIT_BUILD_TESTS=ON -DCSGFIT_BUILD_PYTHON=OFF >/dev/null
   cmake --build "$asan" -j "$jobs" --target csgfit_tests csgfit
+  # OpenCASCADE keeps its STEP tables for the life of the process (tests/lsan_occt.supp).
+  LSAN_OPTIONS="suppressions=$repo/tests/lsan_occt.supp" \
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "$asan/bin/csgfit_tests" --gtest_brief=1 || failed=1
 
