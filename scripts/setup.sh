@@ -15,6 +15,8 @@ packages=(
   build-essential cmake pkg-config
   libstb-dev nlohmann-json3-dev libcli11-dev libeigen3-dev
   libgtest-dev libbenchmark-dev
+  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
+  libtbb-dev  # OCCT's CMake targets link libtbb.so, which libocct-*-dev does not pull in
   python3 python3-dev python3-numpy python3-pytest python3-pil pybind11-dev python3-pybind11
   openscad potrace freecad xvfb xauth
 )
@@ -53,6 +55,8 @@ run_tests() {
   cmake -S "$repo" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCSGFIT_SANITIZE=ON \
     -DCSGFIT_BUILD_TESTS=ON -DCSGFIT_BUILD_PYTHON=OFF >/dev/null
   cmake --build "$asan" -j "$jobs" --target csgfit_tests csgfit
+  # OpenCASCADE keeps its STEP tables for the life of the process (tests/lsan_occt.supp).
+  LSAN_OPTIONS="suppressions=$repo/tests/lsan_occt.supp" \
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "$asan/bin/csgfit_tests" --gtest_brief=1 || failed=1
 

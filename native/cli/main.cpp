@@ -25,13 +25,14 @@
 #include "csgfit/mesh_io.h"
 #include "scad_writer.h"
 #include "scad_writer3d.h"
+#include "step_writer.h"
 
 namespace fs = std::filesystem;
 using namespace csgfit;
 
 namespace {
 
-enum class OutputFormat { Scad, Json, FCStd };
+enum class OutputFormat { Scad, Json, FCStd, Step };
 
 std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -44,8 +45,9 @@ OutputFormat output_format(const std::string& path) {
   if (ext == ".scad") return OutputFormat::Scad;
   if (ext == ".json") return OutputFormat::Json;
   if (ext == ".fcstd") return OutputFormat::FCStd;
+  if (is_step_path(path)) return OutputFormat::Step;
   throw InputError("unknown output format '" + (ext.empty() ? path : ext) +
-                   "' (expected .scad, .json or .FCStd)");
+                   "' (expected .scad, .json, .FCStd or .step)");
 }
 
 // Fails before a long fit rather than after it.
@@ -159,6 +161,31 @@ void write_result(const FitResult& result, const ModelFrame& frame, const std::s
     }
     case OutputFormat::Json: write_file_atomic(out, to_json(result, frame)); break;
     case OutputFormat::FCStd: write_fcstd(to_json(result, frame), out); break;
+    case OutputFormat::Step: {
+      write_step(result.tree, frame, out);
+      for (std::size_t i = 0; i < result.alternatives.size(); ++i)
+        write_step(result.alternatives[i].tree, frame, alternative_path(out, i + 1));
+      break;
+    }
+  }
+}
+
+// A 3D document (csgfit mesh -o .json) to .scad or .step; fn = 0 means the mesh command's 64.
+void export_3d(const std::string& json_text, const std::string& out, int fn) {
+  std::string source;
+  const Node3D tree = from_json3d(json_text, &source);
+  const OutputFormat format = output_format(out);
+  if (format == OutputFormat::Scad) {
+    ScadOptions3D scad;
+    if (fn > 0) scad.fn = fn;
+    scad.source = source;
+    write_file_atomic(out, to_scad(tree, scad));
+  } else if (format == OutputFormat::Step) {
+    StepOptions step;
+    step.source = source;
+    write_step(tree, out, step);
+  } else {
+    throw InputError("cannot write '" + out + "': a 3D result exports to .scad or .step");
   }
 }
 
@@ -178,7 +205,7 @@ int main(int argc, char** argv) {
   bool invert = false, quiet = false;
   CLI::App* image = app.add_subcommand("image", "fit a CSG tree to a bitmap");
   image->add_option("input", in, "PNG, JPEG, BMP, PGM/PBM or TGA image")->required();
-  image->add_option("-o,--output", out, "output: .scad, .json or .FCStd")->required();
+  image->add_option("-o,--output", out, "output: .scad, .json, .FCStd or .step")->required();
   image->add_option("--time", time_limit, "time budget in seconds")->check(CLI::PositiveNumber);
   image->add_option("--seed", seed, "random seed: same seed and threads, same tree");
   image->add_option("--threads", threads, "worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
@@ -207,9 +234,9 @@ int main(int argc, char** argv) {
 
   // csgfit export: a saved JSON result to another format
   std::string ex_in, ex_out;
-  CLI::App* exporter = app.add_subcommand("export", "convert a csgfit .json result to .scad, .json or .FCStd");
+  CLI::App* exporter = app.add_subcommand("export", "convert a csgfit .json result to .scad, .json, .FCStd or .step");
   exporter->add_option("input", ex_in, "csgfit .json result")->required();
-  exporter->add_option("-o,--output", ex_out, "output: .scad, .json or .FCStd")->required();
+  exporter->add_option("-o,--output", ex_out, "output: .scad, .json, .FCStd or .step")->required();
   exporter->add_option("--fn", fn, "OpenSCAD $fn")->check(CLI::Range(3, 1000));
 
   // csgfit render: the solver's raster of a saved result
@@ -226,7 +253,7 @@ int main(int argc, char** argv) {
   bool mesh_quiet = false, mesh_no_align = false;
   CLI::App* mesher = app.add_subcommand("mesh", "fit a 3D CSG tree to a mesh or voxel grid");
   mesher->add_option("input", mesh_in, "STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid")->required();
-  mesher->add_option("-o,--output", mesh_out, "output: .scad, .json or .FCStd")->required();
+  mesher->add_option("-o,--output", mesh_out, "output: .scad, .json, .step or .FCStd")->required();
   mesher->add_option("--resolution", mesh_resolution,
                      "voxels along the longest side of a mesh's search grid (0 = auto: a coarse grid "
                      "of about half a million voxels for the search, then a polish on a fine grid of "
@@ -263,16 +290,21 @@ int main(int argc, char** argv) {
     if (*exporter) {
       output_format(ex_out);
       check_writable(ex_out);
+      const std::string text = read_text_file(ex_in);
+      if (is_json3d(text)) {
+        export_3d(text, ex_out, exporter->count("--fn") ? fn : 0);
+        return 0;
+      }
       ModelFrame frame;
-      FitResult result = from_json(read_text_file(ex_in), &frame);
+      FitResult result = from_json(text, &frame);
       write_result(result, frame, ex_out, fn);
       return 0;
     }
     if (*mesher) {
       const std::string ext = lower_extension(mesh_out);
-      if (ext != ".scad" && ext != ".json" && ext != ".fcstd")
+      if (ext != ".scad" && ext != ".json" && ext != ".fcstd" && !is_step_path(mesh_out))
         throw InputError("unknown output format '" + (ext.empty() ? mesh_out : ext) +
-                         "' for a mesh (expected .scad, .json or .FCStd)");
+                         "' for a mesh (expected .scad, .json, .step or .FCStd)");
       check_writable(mesh_out);
       FitOptions3D options;
       try {
@@ -332,6 +364,10 @@ int main(int argc, char** argv) {
         write_file_atomic(mesh_out, to_scad(result.tree, scad));
       } else if (ext == ".fcstd") {
         write_fcstd(to_json3d(result, target, source, frame), mesh_out);
+      } else if (is_step_path(mesh_out)) {
+        StepOptions step;
+        step.source = source;
+        write_step(result.tree, mesh_out, step);
       } else {
         write_file_atomic(mesh_out, to_json3d(result, target, source, frame));
       }
@@ -349,7 +385,9 @@ int main(int argc, char** argv) {
       return 0;
     }
 
-    output_format(out);
+    // Found out before the fit, not after it.
+    if (output_format(out) == OutputFormat::Step && !(thickness > 0))
+      throw InputError("cannot write '" + out + "': STEP needs a thickness (give --thickness)");
     check_writable(out);
     if (!preview.empty()) check_writable(preview);
     if (!raster.empty()) check_writable(raster);

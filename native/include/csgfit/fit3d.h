@@ -56,4 +56,11 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
 std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
                       const Quaternion& frame = {});
 
+/// Whether `text` is a JSON document with "dimension": 3 (false for 2D or unparsable text).
+bool is_json3d(const std::string& text);
+/// Reads the tree of a document written by to_json3d (`source` gets its "source"). The
+/// quaternion "rotation" is used (euler_deg only when it is absent); the grid and stats are
+/// not read. Throws InputError naming the bad field and node.
+Node3D from_json3d(const std::string& text, std::string* source = nullptr);
+
 }  // namespace csgfit

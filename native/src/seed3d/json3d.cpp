@@ -1,7 +1,10 @@
 // JSON form of a 3D fit ("dimension": 3); see to_json3d in fit3d.h.
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "csgfit/error.h"
 #include "csgfit/fit3d.h"
@@ -52,7 +55,149 @@ ojson node3d_to_json(const Node3D& n, const std::string& where) {
 
 ojson number_or_null(double v) { return std::isfinite(v) ? ojson(v) : ojson(nullptr); }
 
+// ---- reading (csgfit export) ---------------------------------------------------------------
+
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw InputError("JSON: " + where + ": " + what);
+}
+
+double number(const ojson& j, const char* key, const std::string& where) {
+  const auto it = j.find(key);
+  if (it == j.end()) fail(where, std::string("missing number '") + key + "'");
+  if (!it->is_number()) fail(where, std::string("'") + key + "' must be a number");
+  const double v = it->get<double>();
+  if (!std::isfinite(v)) fail(where, std::string("'") + key + "' is not finite");
+  return v;
+}
+
+template <std::size_t N>
+std::array<double, N> numbers(const ojson& j, const char* key, const std::string& where) {
+  const auto it = j.find(key);
+  if (it == j.end() || !it->is_array() || it->size() != N)
+    fail(where, std::string("'") + key + "' must be an array of " + std::to_string(N) + " numbers");
+  std::array<double, N> out{};
+  for (std::size_t i = 0; i < N; ++i) {
+    if (!(*it)[i].is_number()) fail(where, std::string("'") + key + "' must hold numbers");
+    out[i] = (*it)[i].get<double>();
+    if (!std::isfinite(out[i])) fail(where, std::string("'") + key + "' is not finite");
+  }
+  return out;
+}
+
+Node3D node3d_from_json(const ojson& j, const std::string& where, int depth) {
+  if (depth > 1000) fail(where, "the tree is nested too deeply");
+  if (!j.is_object()) fail(where, "a node must be an object");
+  if (const auto op = j.find("op"); op != j.end()) {
+    const std::string name = op->is_string() ? op->get<std::string>() : "";
+    NodeKind kind;
+    if (name == "union") kind = NodeKind::Union;
+    else if (name == "difference") kind = NodeKind::Difference;
+    else if (name == "intersection") kind = NodeKind::Intersection;
+    else fail(where, "unknown op '" + name + "'");
+    const auto kids = j.find("children");
+    if (kids == j.end() || !kids->is_array() || kids->empty())
+      fail(where, "'children' must be a non-empty array");
+    std::vector<Node3D> children;
+    for (std::size_t i = 0; i < kids->size(); ++i)
+      children.push_back(node3d_from_json((*kids)[i], where + ".children[" + std::to_string(i) + "]", depth + 1));
+    return Node3D::op(kind, std::move(children));
+  }
+  const auto type = j.find("type");
+  if (type == j.end() || !type->is_string()) fail(where, "a node needs 'op' or 'type'");
+  Primitive3D p;
+  try {
+    p.kind = primitive_kind3d_from_string(type->get<std::string>());
+  } catch (const std::invalid_argument& e) {
+    fail(where, e.what());
+  }
+  const auto c = numbers<3>(j, "center", where);
+  p.cx = c[0], p.cy = c[1], p.cz = c[2];
+  // The quaternion is what the writer keeps exactly; euler_deg is for people and OpenSCAD.
+  if (j.contains("rotation")) {
+    const auto q = numbers<4>(j, "rotation", where);
+    p.rotation = Quaternion{q[0], q[1], q[2], q[3]};
+  } else if (j.contains("euler_deg")) {
+    const auto e = numbers<3>(j, "euler_deg", where);
+    p.rotation = Quaternion::from_euler_deg(e[0], e[1], e[2]);
+  }
+  switch (p.kind) {
+    case PrimitiveKind3D::Box: {
+      const auto d = numbers<3>(j, "size", where);
+      p.dims = {d[0], d[1], d[2]};
+      break;
+    }
+    case PrimitiveKind3D::Sphere: {
+      const double r = number(j, "r", where);
+      p.dims = {r, r, r};
+      break;
+    }
+    case PrimitiveKind3D::Cylinder: {
+      const double r = number(j, "r", where);
+      p.dims = {r, r, number(j, "h", where)};
+      break;
+    }
+    case PrimitiveKind3D::Cone:
+      p.dims = {number(j, "r1", where), number(j, "r2", where), number(j, "h", where)};
+      break;
+    case PrimitiveKind3D::Ellipsoid: {
+      const auto d = numbers<3>(j, "radii", where);
+      p.dims = {d[0], d[1], d[2]};
+      break;
+    }
+    case PrimitiveKind3D::Torus: p.dims = {number(j, "R", where), number(j, "r", where), 0}; break;
+    case PrimitiveKind3D::TriangularPrism:
+      p.dims = {number(j, "w", where), number(j, "h", where), number(j, "depth", where)};
+      p.apex = j.contains("apex") ? number(j, "apex", where) : 0;
+      break;
+  }
+  for (double v : p.dims)
+    if (v < 0 || (v == 0 && !(p.kind == PrimitiveKind3D::Cone || p.kind == PrimitiveKind3D::Torus)))
+      fail(where, std::string(to_string(p.kind)) + " sizes must be > 0");
+  // Refused rather than repaired: a quaternion of length 0 has no rotation to mean.
+  const double len = std::sqrt(p.rotation.w * p.rotation.w + p.rotation.x * p.rotation.x +
+                               p.rotation.y * p.rotation.y + p.rotation.z * p.rotation.z);
+  if (!(len > 1e-9)) fail(where, "'rotation' must be a non-zero quaternion [w, x, y, z]");
+  p.rotation.normalize();
+  return Node3D::leaf(p);
+}
+
+ojson parse(const std::string& text) {
+  try {
+    return ojson::parse(text);
+  } catch (const ojson::parse_error& e) {
+    throw InputError(std::string("JSON: not valid JSON (") + e.what() + ")");
+  }
+}
+
+bool is_3d(const ojson& doc) {
+  if (!doc.is_object()) return false;
+  const auto d = doc.find("dimension");
+  return d != doc.end() && d->is_number_integer() && d->get<int>() == 3;
+}
+
 }  // namespace
+
+bool is_json3d(const std::string& text) {
+  try {
+    return is_3d(ojson::parse(text));
+  } catch (const ojson::exception&) {
+    return false;
+  }
+}
+
+Node3D from_json3d(const std::string& text, std::string* source) {
+  const ojson doc = parse(text);
+  if (!is_3d(doc)) throw InputError("JSON: not a 3D document ('dimension' must be 3)");
+  if (const auto u = doc.find("units"); u != doc.end() && !(u->is_string() && *u == "mm"))
+    throw InputError("JSON: 'units' must be \"mm\"");
+  const auto tree = doc.find("tree");
+  if (tree == doc.end()) throw InputError("JSON: missing 'tree'");
+  if (source) {
+    const auto src = doc.find("source");
+    *source = src != doc.end() && src->is_string() ? src->get<std::string>() : "";
+  }
+  return node3d_from_json(*tree, "tree", 0);
+}
 
 std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
                       const Quaternion& frame) {

@@ -1,0 +1,78 @@
+// Reading 3D documents back (csgfit export): what to_json3d writes, from_json3d reads as the
+// same tree; bad documents are one-line InputErrors.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "csgfit/error.h"
+#include "csgfit/fit3d.h"
+
+namespace csgfit {
+namespace {
+
+Node3D every_kind() {
+  const Quaternion tilt = Quaternion::from_euler_deg(23, -37, 61);
+  return Node3D::op(
+      NodeKind::Difference,
+      {Node3D::op(NodeKind::Union,
+                  {Node3D::leaf(Primitive3D::box(1, 2, 3, 4, 2.5, 1.5, tilt)),
+                   Node3D::leaf(Primitive3D::sphere(-1, 0.5, 2, 1.7)),
+                   Node3D::leaf(Primitive3D::ellipsoid(1, 1, 1, 2.5, 1.2, 0.8, tilt)),
+                   Node3D::leaf(Primitive3D::torus(-2, 0, 1, 2.0, 0.7, tilt))}),
+       Node3D::leaf(Primitive3D::cylinder(0, 0, 0, 1.2, 3.5, tilt)),
+       Node3D::op(NodeKind::Intersection,
+                  {Node3D::leaf(Primitive3D::cone(0, 1, -2, 0, 1.3, 2.2, tilt)),
+                   Node3D::leaf(Primitive3D::prism(0.5, -0.5, 1, 3, 2, 1.5, 0.6, tilt))})});
+}
+
+TEST(Json3D, WhatIsWrittenReadsBackAsTheSameTree) {
+  FitResult3D result;
+  result.tree = every_kind();
+  const VoxelGrid grid(4, 4, 4, 0, 0, 0, 1);
+  const std::string text = to_json3d(result, grid, "part.stl");
+  ASSERT_TRUE(is_json3d(text));
+  std::string source;
+  const Node3D back = from_json3d(text, &source);
+  EXPECT_EQ(source, "part.stl");
+  EXPECT_EQ(structure_string(back), structure_string(result.tree));
+  const auto a = leaves(static_cast<const Node3D&>(result.tree));
+  const auto b = leaves(back);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    // JSON numbers are written with round-trip precision: the same doubles come back, up to
+    // the quaternion's renormalisation.
+    EXPECT_EQ(a[i]->kind, b[i]->kind);
+    EXPECT_DOUBLE_EQ(a[i]->cx, b[i]->cx);
+    EXPECT_DOUBLE_EQ(a[i]->cz, b[i]->cz);
+    for (int d = 0; d < 3; ++d) EXPECT_DOUBLE_EQ(a[i]->dims[d], b[i]->dims[d]) << i;
+    EXPECT_DOUBLE_EQ(a[i]->apex, b[i]->apex);
+    EXPECT_NEAR(a[i]->rotation.w, b[i]->rotation.w, 1e-15);
+    EXPECT_NEAR(a[i]->rotation.x, b[i]->rotation.x, 1e-15);
+    EXPECT_NEAR(a[i]->rotation.z, b[i]->rotation.z, 1e-15);
+    EXPECT_DOUBLE_EQ(a[i]->volume(), b[i]->volume());
+  }
+}
+
+TEST(Json3D, TwoDimensionalAndBadDocumentsAreRefused) {
+  EXPECT_FALSE(is_json3d(R"({"schema": "csgfit/1", "dimension": 2})"));
+  EXPECT_FALSE(is_json3d("not json"));
+  const std::string head = R"({"schema": "csgfit/1", "dimension": 3, "units": "mm", "tree": )";
+  for (const std::string& tree :
+       {std::string(R"({"type": "box", "center": [0, 0, 0], "size": [1, -1, 1]})"),
+        std::string(R"({"type": "blob", "center": [0, 0, 0]})"),
+        std::string(R"({"type": "sphere", "r": 1})"),
+        std::string(R"({"type": "sphere", "center": [0, 0, 0], "r": 1, "rotation": [0, 0, 0, 0]})"),
+        std::string(R"({"op": "union", "children": []})"),
+        std::string(R"({"op": "xor", "children": [{"type": "sphere", "center": [0, 0, 0], "r": 1}]})")}) {
+    try {
+      from_json3d(head + tree + "}");
+      ADD_FAILURE() << "accepted " << tree;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    }
+  }
+  EXPECT_THROW(from_json3d(R"({"schema": "csgfit/1", "dimension": 2, "tree": {}})"), InputError);
+}
+
+}  // namespace
+}  // namespace csgfit

@@ -1,0 +1,155 @@
+#!/bin/bash
+# STEP output end to end (issue 4): a fitted part's .step opens in FreeCAD (headless) as one valid
+# solid whose volume is within 1 % of OpenSCAD's rendering of the .scad of the same tree (the
+# .scad has $fn = 64 facets, the STEP exact surfaces); then the 2D path and bad inputs.
+# Both files come from one fit: `csgfit mesh -o .json`, then `csgfit export` to .scad and .step
+# (two fits under a time limit need not give the same tree).
+# Usage: step_export_test.sh CSGFIT_CLI SOURCE_DIR
+set -u
+CLI=${1:?path to csgfit}
+SRC=${2:?source directory}
+PY=/usr/bin/python3
+fail() { echo "FAIL: $*"; exit 1; }
+for tool in openscad; do
+  command -v $tool >/dev/null 2>&1 || { echo "SKIP: $tool is not installed"; exit 0; }
+done
+[ -d /usr/lib/freecad-python3/lib ] || { echo "SKIP: FreeCAD is not installed"; exit 0; }
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+cd "$WORK" || exit 1
+
+# FreeCAD reads the STEP; the OpenSCAD STL's volume is summed from its facets (divergence
+# theorem), and its pieces are its facets connected through shared vertices. The STEP must be
+# one solid per piece: one solid for a part in one piece (a fitted tree may leave a disjoint
+# piece, which OpenSCAD renders too; slivers under 1e-6 of the volume are not pieces).
+cat >compare.py <<'PYEOF'
+import sys
+sys.path.append('/usr/lib/freecad-python3/lib')
+import FreeCAD, Part
+step, stl, label = sys.argv[1], sys.argv[2], sys.argv[3]
+shape = Part.read(step)
+assert shape.isValid(), "%s: FreeCAD says the STEP shape is not valid" % label
+assert all(s.isValid() for s in shape.Solids), "%s: an invalid solid" % label
+keys, v = {}, []
+for line in open(stl):
+    w = line.split()
+    if w and w[0] == 'vertex':
+        v.append(tuple(map(float, w[1:4])))
+parent = list(range(len(v)))
+def find(i):
+    while parent[i] != i:
+        parent[i] = parent[parent[i]]
+        i = parent[i]
+    return i
+for i, p in enumerate(v):
+    j = keys.setdefault(p, i)
+    parent[find(i)] = find(j)
+for i in range(0, len(v), 3):
+    parent[find(i + 1)] = find(i)
+    parent[find(i + 2)] = find(i)
+piece = {}
+for i in range(0, len(v), 3):
+    (ax, ay, az), (bx, by, bz), (cx, cy, cz) = v[i:i + 3]
+    t = (ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx)) / 6
+    piece[find(i)] = piece.get(find(i), 0.0) + t
+scad = sum(piece.values())
+pieces = sum(1 for p in piece.values() if p > 1e-6 * scad)
+step_v = shape.Volume
+rel = abs(step_v - scad) / scad
+print("%s: STEP %d solid(s), volume %.6g (FreeCAD); OpenSCAD %d piece(s), %.6g; difference %.4f %%"
+      % (label, len(shape.Solids), step_v, pieces, scad, 100 * rel))
+assert len(shape.Solids) == pieces, "%s: %d solids for %d pieces" % (label, len(shape.Solids), pieces)
+assert rel <= 0.01, "%s: STEP and .scad volumes differ by %.3f %% > 1 %%" % (label, 100 * rel)
+PYEOF
+
+# A 40 x 30 x 12 block with a through hole of radius 7 and a cone on top, as a closed mesh.
+$PY - <<'PYEOF' || fail "could not write the test mesh"
+import math
+W, H, Z, R = 20.0, 15.0, 12.0, 7.0
+corners = [math.atan2(H, W), math.atan2(H, -W), math.atan2(-H, -W), math.atan2(-H, W)]
+angles = sorted(set([2 * math.pi * i / 48 - math.pi for i in range(48)] + corners))
+def square(t):
+    c, s = math.cos(t), math.sin(t)
+    f = min(W / abs(c) if abs(c) > 1e-12 else 1e30, H / abs(s) if abs(s) > 1e-12 else 1e30)
+    return (c * f, s * f)
+def circle(t):
+    return (R * math.cos(t), R * math.sin(t))
+tris = []
+n = len(angles)
+for i in range(n):
+    a, b = angles[i], angles[(i + 1) % n]
+    s0, s1, c0, c1 = square(a), square(b), circle(a), circle(b)
+    tris += [((c0, Z), (s0, Z), (s1, Z)), ((c0, Z), (s1, Z), (c1, Z))]
+    tris += [((c0, 0), (s1, 0), (s0, 0)), ((c0, 0), (c1, 0), (s1, 0))]
+    tris += [((s0, 0), (s1, 0), (s1, Z)), ((s0, 0), (s1, Z), (s0, Z))]
+    tris += [((c0, 0), (c1, Z), (c1, 0)), ((c0, 0), (c0, Z), (c1, Z))]
+with open("part.stl", "w") as f:
+    f.write("solid part\n")
+    for t in tris:
+        f.write(" facet normal 0 0 0\n  outer loop\n")
+        for (x, y), z in t:
+            f.write("   vertex %.9g %.9g %.9g\n" % (x, y, z))
+        f.write("  endloop\n endfacet\n")
+    f.write("endsolid part\n")
+PYEOF
+
+check_model() {
+  local label=$1 mesh=$2
+  "$CLI" mesh "$mesh" -o "$label.json" --time 5 --threads 1 --seed 1 -q || fail "$label: csgfit mesh exited $?"
+  "$CLI" export "$label.json" -o "$label.scad" || fail "$label: export to .scad exited $?"
+  "$CLI" export "$label.json" -o "$label.step" || fail "$label: export to .step exited $?"
+  grep -q "segments = 64;" "$label.scad" || fail "$label: the .scad does not have the mesh command's \$fn = 64"
+  openscad -o "$label.stl" "$label.scad" >openscad.log 2>&1 || { cat openscad.log; fail "$label: OpenSCAD could not render"; }
+  $PY compare.py "$label.step" "$label.stl" "$label" || fail "$label: STEP check failed"
+}
+check_model part part.stl
+MODEL011=/work/shared/benchmarks/3d/inversecsg/011/csg_high_res.off
+if [ -f "$MODEL011" ]; then
+  check_model model011 "$MODEL011"
+else
+  echo "SKIP model 011: $MODEL011 is not present"
+fi
+
+# csgfit mesh writes .step directly too.
+"$CLI" mesh part.stl -o direct.step --time 2 --threads 1 -q || fail "csgfit mesh -o .step exited $?"
+$PY -c "
+import sys; sys.path.append('/usr/lib/freecad-python3/lib')
+import FreeCAD, Part
+s = Part.read('direct.step')
+assert s.isValid() and len(s.Solids) >= 1, (s.isValid(), len(s.Solids))
+# The part is 40 x 30 x 12 less a hole of radius 7: 14400 - 1847 = 12553 mm^3; the fit is close.
+assert abs(s.Volume - 12553) < 0.05 * 12553, s.Volume
+print('mesh -o .step: valid, volume %.1f' % s.Volume)
+" || fail "csgfit mesh -o .step: not the part"
+
+# 2D: a bitmap fit extruded by --thickness; the .scad's linear_extrude and the STEP agree.
+"$CLI" image "$SRC/examples/bracket.png" -o bracket.json --time 2 --threads 1 -q --thickness 3 --pixel-size 0.5 \
+  || fail "csgfit image exited $?"
+"$CLI" export bracket.json -o bracket.scad || fail "2D export to .scad exited $?"
+"$CLI" export bracket.json -o bracket.step || fail "2D export to .step exited $?"
+openscad -o bracket.stl bracket.scad >openscad.log 2>&1 || { cat openscad.log; fail "OpenSCAD could not render the 2D .scad"; }
+$PY compare.py bracket.step bracket.stl bracket || fail "2D STEP check failed"
+
+# Bad inputs: exit 2, one line on stderr, no output file.
+check_bad() {
+  local what=$1 out=$2 words=$3; shift 3
+  rm -f "$out"
+  "$@" 2>err.txt
+  local rc=$?
+  [ $rc -eq 2 ] || fail "$what: exit $rc, expected 2"
+  [ "$(wc -l <err.txt)" -eq 1 ] || { cat err.txt; fail "$what: expected one line on stderr"; }
+  grep -q "$words" err.txt || { cat err.txt; fail "$what: the message does not say '$words'"; }
+  [ ! -e "$out" ] || fail "$what: an output file was written"
+  echo "$what: $(cat err.txt)"
+}
+check_bad "unwritable path" "$WORK/no/such/dir/x.step" "does not exist" \
+  "$CLI" mesh part.stl -o "$WORK/no/such/dir/x.step" --time 1 -q
+START=$(date +%s)
+check_bad "2D without thickness" flat.step "STEP needs a thickness" \
+  "$CLI" image "$SRC/examples/bracket.png" -o flat.step --time 30 -q
+# Refused before the 30 s fit, not after it (a generous bound: no timing is measured otherwise).
+[ $(( $(date +%s) - START )) -lt 20 ] || fail "2D without thickness: refused only after the fit"
+"$CLI" image "$SRC/examples/bracket.png" -o flat.json --time 1 --threads 1 -q || fail "csgfit image (flat) exited $?"
+check_bad "2D export without thickness" flat.step "STEP needs a thickness" "$CLI" export flat.json -o flat.step
+check_bad "3D export to .json" again.json "exports to .scad or .step" "$CLI" export part.json -o again.json
+echo "PASS"
