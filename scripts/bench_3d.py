@@ -189,20 +189,41 @@ def fit_one(entry, row, args):
     name = entry["name"]
     scad = os.path.join(args.out, name + ".scad")
     stl = os.path.join(args.out, name + ".stl")
-    for stale in (scad, stl):
-        if os.path.exists(stale):
-            os.remove(stale)
     cmd = [args.cli, "mesh", row["_mesh"], "-o", scad, "--time", "%g" % args.time]
     cmd += shlex.split(args.extra_args)
     row["command"] = " ".join(shlex.quote(c) for c in cmd)
+    log = os.path.join(args.out, name + ".stderr.txt")
+    wall_file = os.path.join(args.out, name + ".wall.txt")
+    if args.reuse and os.path.exists(scad) and os.path.exists(log):
+        # Score a previous run's output again (e.g. with other OpenSCAD settings).
+        with open(log) as f:
+            summary = parse_summary(f.read())
+        row["solver_iou"] = summary.get("iou", "")
+        row["solver_primitives"] = summary.get("primitives", "")
+        row["solver_evaluations"] = summary.get("evaluations", "")
+        row["solver_seconds"] = summary.get("seconds", "")
+        row["stop_reason"] = summary.get("stop", "")
+        row["exit_code"] = 0
+        if os.path.exists(wall_file):
+            with open(wall_file) as f:
+                row["wall_s"] = float(f.read().strip())
+        else:
+            row["wall_s"] = summary.get("seconds", 0.0)
+            row["wall_from_summary"] = True
+        return row
+    for stale in (scad, stl, wall_file):
+        if os.path.exists(stale):
+            os.remove(stale)
     t0 = time.monotonic()
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True,
                               timeout=args.time * 3 + 120)
         row["wall_s"] = time.monotonic() - t0
         row["exit_code"] = proc.returncode
-        with open(os.path.join(args.out, name + ".stderr.txt"), "w") as f:
+        with open(log, "w") as f:
             f.write(proc.stderr)
+        with open(wall_file, "w") as f:
+            f.write("%.3f\n" % row["wall_s"])
         if proc.returncode != 0:
             last = (proc.stderr.strip().splitlines() or ["(no message)"])[-1]
             raise RuntimeError("csgfit exit %d: %s" % (proc.returncode, last[:200]))
@@ -443,6 +464,9 @@ def main(argv=None):
     ap.add_argument("--kind", choices=sorted(KIND_LABELS), help="run only this kind")
     ap.add_argument("--out", default=os.path.join(REPO_DIR, "bench-out", "3d"))
     ap.add_argument("--extra-args", default="", help="appended to every csgfit command")
+    ap.add_argument("--reuse", action="store_true",
+                    help="score the .scad files a previous run left in --out instead of fitting "
+                         "again (models without one are fitted)")
     ap.add_argument("--grid", type=int, default=96,
                     help="IoU grid: cubic voxels, at least GRID^3 of them (default 96)")
     ap.add_argument("--openscad-timeout", type=float, default=300.0,

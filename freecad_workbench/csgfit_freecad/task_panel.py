@@ -115,6 +115,57 @@ class FitPanel:
     def _make_form(self):
         raise NotImplementedError
 
+    # ---- form pieces both panels use ------------------------------------------------------
+
+    def _new_form(self, icon_name):
+        form = QtWidgets.QWidget()
+        form.setWindowTitle(self.TITLE)
+        form.setWindowIcon(QtGui.QIcon(icon(icon_name)))
+        return form, QtWidgets.QVBoxLayout(form)
+
+    def _add_file_row(self, layout, placeholder):
+        row = QtWidgets.QHBoxLayout()
+        self.file_edit = QtWidgets.QLineEdit()
+        self.file_edit.setPlaceholderText(placeholder)
+        self.file_edit.editingFinished.connect(self._input_changed)
+        browse = QtWidgets.QPushButton("Browse...")
+        browse.clicked.connect(self._browse)
+        row.addWidget(self.file_edit)
+        row.addWidget(browse)
+        layout.addLayout(row)
+
+    def _add_search_rows(self, grid, time, min_time, k_max, k_tip):
+        """Time budget (set self.quality between it and k yourself), then k and seed."""
+        self.time = QtWidgets.QDoubleSpinBox()
+        self.time.setRange(min_time, 3600)
+        self.time.setValue(time)
+        self.time.setSuffix(" s")
+        grid.addRow("Time budget", self.time)
+        self.k = QtWidgets.QDoubleSpinBox()
+        self.k.setRange(-1, k_max)
+        self.k.setValue(-1)
+        self.k.setSpecialValueText("auto")
+        self.k.setToolTip(k_tip)
+        self.seed = QtWidgets.QSpinBox()
+        self.seed.setRange(0, 2 ** 31 - 1)
+        self.seed.setValue(1)
+
+    def _add_preview(self, layout, tooltip):
+        self.preview = QtWidgets.QLabel()
+        self.preview.setAlignment(QtCore.Qt.AlignCenter)
+        self.preview.setMinimumSize(PREVIEW_SIZE, 120)
+        self.preview.setToolTip(tooltip)
+        layout.addWidget(self.preview)
+
+    @staticmethod
+    def _add_legend(layout):
+        legend = QtWidgets.QLabel(
+            "<small>grey: matched &nbsp; <span style='color:#dc2828'>red: extra</span> &nbsp; "
+            "<span style='color:#285ae6'>blue: missing</span></small>")
+        legend.setAlignment(QtCore.Qt.AlignCenter)
+        layout.addWidget(legend)
+        layout.addStretch(1)
+
     def _add_run_controls(self, layout):
         row = QtWidgets.QHBoxLayout()
         self.fit_button = QtWidgets.QPushButton("Fit")
@@ -263,6 +314,7 @@ class FitPanel:
 class ImageToCsgPanel(FitPanel):
     """Task panel: settings, Fit / Cancel, progress, preview, tree choice; OK builds the tree."""
 
+    TITLE = "Image to CSG"
     START_TEXT = "Choose a bitmap, then Fit."
 
     def __init__(self, path=None):
@@ -274,20 +326,8 @@ class ImageToCsgPanel(FitPanel):
     # ---- form ---------------------------------------------------------------------------
 
     def _make_form(self):
-        form = QtWidgets.QWidget()
-        form.setWindowTitle("Image to CSG")
-        form.setWindowIcon(QtGui.QIcon(icon("csgfit_image_to_csg")))
-        layout = QtWidgets.QVBoxLayout(form)
-
-        row = QtWidgets.QHBoxLayout()
-        self.file_edit = QtWidgets.QLineEdit()
-        self.file_edit.setPlaceholderText("bitmap file (PNG, JPEG, BMP, PGM, TGA)")
-        self.file_edit.editingFinished.connect(self._input_changed)
-        browse = QtWidgets.QPushButton("Browse...")
-        browse.clicked.connect(self._browse)
-        row.addWidget(self.file_edit)
-        row.addWidget(browse)
-        layout.addLayout(row)
+        form, layout = self._new_form("csgfit_image_to_csg")
+        self._add_file_row(layout, "bitmap file (PNG, JPEG, BMP, PGM, TGA)")
 
         grid = QtWidgets.QFormLayout()
         self.threshold = QtWidgets.QSpinBox()
@@ -312,20 +352,11 @@ class ImageToCsgPanel(FitPanel):
         self.thickness.setSpecialValueText("auto (10 pixels)")
         self.thickness.setSuffix(" mm")
         grid.addRow("Thickness", self.thickness)
-        self.time = QtWidgets.QDoubleSpinBox()
-        self.time.setRange(0.1, 3600)
-        self.time.setValue(10)
-        self.time.setSuffix(" s")
-        grid.addRow("Time budget", self.time)
+        self._add_search_rows(grid, 10, 0.1, 1e6, "Penalty per primitive: higher gives smaller trees")
         self.quality = QtWidgets.QComboBox()
         self.quality.addItems(QUALITIES)
         self.quality.setCurrentText("default")
         grid.addRow("Quality", self.quality)
-        self.k = QtWidgets.QDoubleSpinBox()
-        self.k.setRange(-1, 1e6)
-        self.k.setValue(-1)
-        self.k.setSpecialValueText("auto")
-        self.k.setToolTip("Penalty per primitive: higher gives smaller trees")
         grid.addRow("Size weight k", self.k)
         prim_box = QtWidgets.QWidget()
         prim_row = QtWidgets.QHBoxLayout(prim_box)
@@ -337,9 +368,6 @@ class ImageToCsgPanel(FitPanel):
             prim_row.addWidget(cb)
             self.primitive_checks[name] = cb
         grid.addRow("Primitives", prim_box)
-        self.seed = QtWidgets.QSpinBox()
-        self.seed.setRange(0, 2 ** 31 - 1)
-        self.seed.setValue(1)
         grid.addRow("Seed", self.seed)
         self.alternatives = QtWidgets.QSpinBox()
         self.alternatives.setRange(0, 10)
@@ -353,17 +381,8 @@ class ImageToCsgPanel(FitPanel):
         self.tree_choice.setEnabled(False)
         self.tree_choice.currentIndexChanged.connect(self._show_preview)
         layout.addWidget(self.tree_choice)
-        self.preview = QtWidgets.QLabel()
-        self.preview.setAlignment(QtCore.Qt.AlignCenter)
-        self.preview.setMinimumSize(PREVIEW_SIZE, 120)
-        self.preview.setToolTip("Grey: matched; red: result only; blue: image only")
-        layout.addWidget(self.preview)
-        legend = QtWidgets.QLabel(
-            "<small>grey: matched &nbsp; <span style='color:#dc2828'>red: extra</span> &nbsp; "
-            "<span style='color:#285ae6'>blue: missing</span></small>")
-        legend.setAlignment(QtCore.Qt.AlignCenter)
-        layout.addWidget(legend)
-        layout.addStretch(1)
+        self._add_preview(layout, "Grey: matched; red: result only; blue: image only")
+        self._add_legend(layout)
         return form
 
     # ---- inputs -------------------------------------------------------------------------
@@ -564,38 +583,18 @@ class MeshToCsgPanel(FitPanel):
             self.set_file(path)
 
     def _make_form(self):
-        form = QtWidgets.QWidget()
-        form.setWindowTitle(self.TITLE)
-        form.setWindowIcon(QtGui.QIcon(icon("csgfit_mesh_to_csg")))
-        layout = QtWidgets.QVBoxLayout(form)
-
-        row = QtWidgets.QHBoxLayout()
-        self.file_edit = QtWidgets.QLineEdit()
-        self.file_edit.setPlaceholderText("mesh or voxel file (STL, OBJ, OFF, PLY, NPY, BINVOX)")
-        self.file_edit.editingFinished.connect(self._input_changed)
-        browse = QtWidgets.QPushButton("Browse...")
-        browse.clicked.connect(self._browse)
-        row.addWidget(self.file_edit)
-        row.addWidget(browse)
-        layout.addLayout(row)
+        form, layout = self._new_form("csgfit_mesh_to_csg")
+        self._add_file_row(layout, "mesh or voxel file (STL, OBJ, OFF, PLY, NPY, BINVOX)")
 
         grid = QtWidgets.QFormLayout()
-        self.time = QtWidgets.QDoubleSpinBox()
-        self.time.setRange(0.5, 3600)
-        self.time.setValue(20)
-        self.time.setSuffix(" s")
-        grid.addRow("Time budget", self.time)
+        self._add_search_rows(grid, 20, 0.5, 1e9,
+                              "Penalty per primitive in voxels: higher gives smaller trees")
         self.quality = QtWidgets.QComboBox()
         for text, _ in MESH_QUALITIES:
             self.quality.addItem(text)
         self.quality.setCurrentIndex(1)
         self.quality.setToolTip("How finely the mesh is voxelised before the fit")
         grid.addRow("Quality", self.quality)
-        self.k = QtWidgets.QDoubleSpinBox()
-        self.k.setRange(-1, 1e9)
-        self.k.setValue(-1)
-        self.k.setSpecialValueText("auto")
-        self.k.setToolTip("Penalty per primitive in voxels: higher gives smaller trees")
         grid.addRow("Size weight k", self.k)
         prim_box = QtWidgets.QWidget()
         prim_grid = QtWidgets.QGridLayout(prim_box)
@@ -610,9 +609,6 @@ class MeshToCsgPanel(FitPanel):
             prim_grid.addWidget(cb, n // 4, n % 4)
             self.primitive_checks[name] = cb
         grid.addRow("Primitives", prim_box)
-        self.seed = QtWidgets.QSpinBox()
-        self.seed.setRange(0, 2 ** 31 - 1)
-        self.seed.setValue(1)
         grid.addRow("Seed", self.seed)
         layout.addLayout(grid)
 
@@ -622,12 +618,8 @@ class MeshToCsgPanel(FitPanel):
         self.show_3d.setChecked(True)
         self.show_3d.toggled.connect(self._show_overlay)
         layout.addWidget(self.show_3d)
-        self.preview = QtWidgets.QLabel()
-        self.preview.setAlignment(QtCore.Qt.AlignCenter)
-        self.preview.setMinimumSize(PREVIEW_SIZE, 120)
-        self.preview.setToolTip("A z slice of the voxels: grey matched; red: tree only; "
-                                "blue: mesh only")
-        layout.addWidget(self.preview)
+        self._add_preview(layout, "A z slice of the voxels: grey matched; red: tree only; "
+                                  "blue: mesh only")
         row = QtWidgets.QHBoxLayout()
         row.addWidget(QtWidgets.QLabel("Slice z"))
         self.slice = QtWidgets.QSlider(QtCore.Qt.Horizontal)
@@ -635,12 +627,7 @@ class MeshToCsgPanel(FitPanel):
         self.slice.valueChanged.connect(self._show_slice)
         row.addWidget(self.slice)
         layout.addLayout(row)
-        legend = QtWidgets.QLabel(
-            "<small>grey: matched &nbsp; <span style='color:#dc2828'>red: extra</span> &nbsp; "
-            "<span style='color:#285ae6'>blue: missing</span></small>")
-        legend.setAlignment(QtCore.Qt.AlignCenter)
-        layout.addWidget(legend)
-        layout.addStretch(1)
+        self._add_legend(layout)
         return form
 
     # ---- inputs -------------------------------------------------------------------------

@@ -17,37 +17,7 @@ trap 'rm -rf "$WORK"' EXIT
 cd "$WORK" || exit 1
 
 # A 40 x 30 x 12 block with a through hole of radius 7, as a closed, outward-oriented mesh.
-$PY - <<'PYEOF' || fail "could not write the test mesh"
-import math
-W, H, Z, R = 20.0, 15.0, 12.0, 7.0
-corners = [math.atan2(H, W), math.atan2(H, -W), math.atan2(-H, -W), math.atan2(-H, W)]
-angles = sorted(set([2 * math.pi * i / 48 - math.pi for i in range(48)] + corners))
-def square(t):
-    c, s = math.cos(t), math.sin(t)
-    f = min(W / abs(c) if abs(c) > 1e-12 else 1e30, H / abs(s) if abs(s) > 1e-12 else 1e30)
-    return (c * f, s * f)
-def circle(t):
-    return (R * math.cos(t), R * math.sin(t))
-tris = []
-n = len(angles)
-for i in range(n):
-    a, b = angles[i], angles[(i + 1) % n]
-    s0, s1, c0, c1 = square(a), square(b), circle(a), circle(b)
-    # top (z = Z, normal +z) and bottom (z = 0, normal -z) annulus pieces
-    tris += [((c0, Z), (s0, Z), (s1, Z)), ((c0, Z), (s1, Z), (c1, Z))]
-    tris += [((c0, 0), (s1, 0), (s0, 0)), ((c0, 0), (c1, 0), (s1, 0))]
-    # outer wall (normal outward) and hole wall (normal toward the axis)
-    tris += [((s0, 0), (s1, 0), (s1, Z)), ((s0, 0), (s1, Z), (s0, Z))]
-    tris += [((c0, 0), (c1, Z), (c1, 0)), ((c0, 0), (c0, Z), (c1, Z))]
-with open("part.stl", "w") as f:
-    f.write("solid part\n")
-    for t in tris:
-        f.write(" facet normal 0 0 0\n  outer loop\n")
-        for (x, y), z in t:
-            f.write("   vertex %.9g %.9g %.9g\n" % (x, y, z))
-        f.write("  endloop\n endfacet\n")
-    f.write("endsolid part\n")
-PYEOF
+$PY "$SRC/tests/fixtures/holed_block_stl.py" part.stl || fail "could not write the test mesh"
 
 "$CLI" mesh part.stl -o part.scad --time 5 --threads 1 --seed 1 -q || fail "csgfit mesh exited $?"
 [ -s part.scad ] || fail "no .scad written"

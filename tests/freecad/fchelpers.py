@@ -220,3 +220,14 @@ def make_fixture(path, placement=None):
     mesh = Mesh.Mesh(solid.tessellate(0.01))
     mesh.write(str(path))
     return mesh.Volume
+
+
+def csgfit_or_skip():
+    """The csgfit Python module from the build, or a pytest skip saying where it was looked for."""
+    import pytest
+
+    try:
+        import csgfit
+    except ImportError as e:
+        pytest.skip(f"csgfit module not built in {BUILD}/python ({e})")
+    return csgfit

@@ -29,14 +29,6 @@ PIXEL = 0.5
 WRITER = os.path.join(H.WORKBENCH, "csgfit_freecad", "fcstd_writer.py")
 
 
-def csgfit_or_skip():
-    try:
-        import csgfit
-    except ImportError as e:
-        pytest.skip(f"csgfit module not built in {H.BUILD}/python ({e})")
-    return csgfit
-
-
 @pytest.fixture
 def doc():
     d = App.newDocument("csgfit_test")
@@ -54,7 +46,7 @@ def fitted(request):
     path = os.path.join(H.BENCH, name + ".png")
     if not os.path.exists(path):
         pytest.skip(f"benchmark {path} not present")
-    csgfit = csgfit_or_skip()
+    csgfit = H.csgfit_or_skip()
     if name not in _fits:
         _fits[name] = csgfit.fit_image(path, pixel_size=PIXEL, time=4, seed=1)
     return name, _fits[name]

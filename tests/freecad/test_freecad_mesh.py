@@ -52,14 +52,6 @@ ALL_KINDS_3D = {
 }
 
 
-def csgfit_or_skip():
-    try:
-        import csgfit
-    except ImportError as e:
-        pytest.skip(f"csgfit module not built in {H.BUILD}/python ({e})")
-    return csgfit
-
-
 @pytest.fixture
 def doc():
     d = App.newDocument("csgfit_mesh_test")
@@ -146,7 +138,7 @@ _fit = {}
 
 def fitted_fixture(tmp_path_factory):
     """(stl path, mesh volume, FitResult3D) of the fixture, fitted once."""
-    csgfit = csgfit_or_skip()
+    csgfit = H.csgfit_or_skip()
     if not _fit:
         d = tmp_path_factory.mktemp("fixture")
         path = d / "block_with_hole.stl"
