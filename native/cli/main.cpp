@@ -262,7 +262,7 @@ int main(int argc, char** argv) {
   mesher->add_option("--time", mesh_time, "time budget in seconds")->check(CLI::PositiveNumber);
   mesher->add_option("--seed", mesh_seed, "random seed: same seed and threads, same tree");
   mesher->add_option("--threads", mesh_threads, "worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
-  mesher->add_option("--k", mesh_k, "size weight per primitive in voxels (default: 100 per million grid voxels)")
+  mesher->add_option("--k", mesh_k, "size weight per primitive in voxels (default: 200 per million grid voxels)")
       ->check(CLI::NonNegativeNumber);
   mesher->add_option("--primitives", mesh_primitives,
                      "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism (or all)");

@@ -504,7 +504,7 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
     resolution / voxel_size: the voxelisation (see voxelize; both 0 = automatic).
     time: wall-time budget in seconds (the search stops earlier when it converges).
     threads: 0 = all cores. seed: same seed and threads, same tree (when it converges).
-    k: size weight per primitive in voxels; None = 100 per million grid voxels.
+    k: size weight per primitive in voxels; None = 200 per million grid voxels.
     primitives: list or comma-separated names of PRIMITIVE_TYPES_3D, or "all"; boxes are
         required. Default: all but the torus.
     progress / cancel: as for fit_image (cancel stops the fit within a fraction of a second and
