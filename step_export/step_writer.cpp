@@ -1,13 +1,17 @@
 #include "step_writer.h"
 
 #include <fcntl.h>
+#include <limits>
 #include <unistd.h>
 
 #include <BRepAlgoAPI_BooleanOperation.hxx>
+#include <BRepBndLib.hxx>
+#include <Bnd_Box.hxx>
 #include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBuilderAPI_GTransform.hxx>
+#include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
@@ -29,6 +33,7 @@
 #include <Message_PrinterOStream.hxx>
 #include <STEPControl_Controller.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
+#include <STEPControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
@@ -247,15 +252,46 @@ TopoDS_Shape combine(NodeKind kind, std::vector<TopoDS_Shape> kids) {
   // Union and difference are one General Fuse run over all children (first child the object,
   // the rest tools); intersection is a chain of pairwise commons (an n-ary common of the
   // arguments is not what BRepAlgoAPI_Common computes with several tools).
+  // OpenCASCADE can return a valid-looking solid of the wrong volume (measured: a cylinder
+  // minus a B-spline ellipsoid came out 12 % larger than the cylinder). Every result is held to
+  // the bounds its operands' volumes allow; a result outside them is built again with a fuzzy
+  // tolerance, and if that fails too the STEP is refused rather than written wrong.
+  auto volume_ok = [&](const TopTools_ListOfShape& args, const TopTools_ListOfShape& tools,
+                       const TopoDS_Shape& result) {
+    std::vector<double> va, vt;
+    for (const TopoDS_Shape& a : args) va.push_back(std::fabs(shape_volume(a)));
+    for (const TopoDS_Shape& t : tools) vt.push_back(std::fabs(shape_volume(t)));
+    double sum = 0, biggest = 0, smallest = std::numeric_limits<double>::infinity();
+    for (double v : va) sum += v, biggest = std::max(biggest, v), smallest = std::min(smallest, v);
+    for (double v : vt) sum += v, biggest = std::max(biggest, v), smallest = std::min(smallest, v);
+    const double v = result.IsNull() ? 0.0 : shape_volume(result);
+    const double tol = 1e-6 * sum + 1e-12;
+    if (!(v >= -tol)) return false;
+    if (kind == NodeKind::Union) return v >= biggest - tol && v <= sum + tol;
+    if (kind == NodeKind::Intersection) return v <= smallest + tol;
+    const double base = va.front();
+    double cut = 0;
+    for (double t : vt) cut += t;
+    return v <= base + tol && v >= base - cut - tol;
+  };
   auto run = [&](BRepAlgoAPI_BooleanOperation& op, const TopTools_ListOfShape& args,
                  const TopTools_ListOfShape& tools) {
-    op.SetArguments(args);
-    op.SetTools(tools);
-    op.SetRunParallel(Standard_False);  // the machine is shared; trees are small
-    op.Build();
-    if (!op.IsDone() || op.HasErrors())
-      throw InputError(std::string("cannot write STEP: the ") + name + " failed in OpenCASCADE");
-    return op.Shape();
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      op.SetArguments(args);
+      op.SetTools(tools);
+      op.SetRunParallel(Standard_False);  // the machine is shared; trees are small
+      if (attempt == 1) {
+        Bnd_Box box;
+        for (const TopoDS_Shape& a : args) BRepBndLib::Add(a, box);
+        op.SetFuzzyValue(1e-7 * std::sqrt(box.SquareExtent()));
+      }
+      op.Build();
+      if (!op.IsDone() || op.HasErrors()) continue;
+      const TopoDS_Shape result = op.Shape();
+      if (volume_ok(args, tools, result)) return result;
+    }
+    throw InputError(std::string("cannot write STEP: OpenCASCADE's ") + name +
+                     " gave a solid of impossible volume (write .scad or .json instead)");
   };
   if (kind == NodeKind::Intersection) {
     TopoDS_Shape acc = kids.front();
@@ -428,12 +464,29 @@ void write_step_shape(const TopoDS_Shape& shape, const std::string& path,
       Interface_Static::SetCVal("write.step.unit", "MM");
       Interface_Static::SetCVal("xstep.cascade.unit", "MM");
       Interface_Static::SetCVal("write.step.product.name", name.c_str());
-      STEPControl_Writer writer;
-      if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone)
-        throw InputError("cannot write '" + path + "': OpenCASCADE could not translate the solid");
-      if (writer.Write(tmp.c_str()) != IFSelect_RetDone)
-        throw InputError("cannot write '" + path + "': OpenCASCADE could not write the file");
-      return 0;
+      // The file is read back and its volume compared with the solid's: a boolean face on a
+      // transformed (B-spline) sphere can come back from STEP with its trimming lost (measured:
+      // a cylinder minus an ellipsoid read back 50 % too large). Then the solid is written
+      // again as NURBS throughout, and if that does not read back right either, refused.
+      const double expected = shape_volume(shape);
+      for (int attempt = 0; attempt < 2; ++attempt) {
+        TopoDS_Shape out = shape;
+        if (attempt == 1) out = BRepBuilderAPI_NurbsConvert(shape, Standard_True).Shape();
+        STEPControl_Writer writer;
+        if (writer.Transfer(out, STEPControl_AsIs) != IFSelect_RetDone)
+          throw InputError("cannot write '" + path + "': OpenCASCADE could not translate the solid");
+        if (writer.Write(tmp.c_str()) != IFSelect_RetDone)
+          throw InputError("cannot write '" + path + "': OpenCASCADE could not write the file");
+        STEPControl_Reader reader;
+        if (reader.ReadFile(tmp.c_str()) != IFSelect_RetDone) continue;
+        reader.TransferRoots();
+        const TopoDS_Shape back = reader.OneShape();
+        if (back.IsNull()) continue;
+        const double got = shape_volume(back);
+        if (std::fabs(got - expected) <= 1e-6 * std::fabs(expected) + 1e-12) return 0;
+      }
+      throw InputError("cannot write '" + path + "': the STEP file does not read back as the "
+                       "solid written (an OpenCASCADE limitation; write .scad or .json instead)");
     });
     if (std::rename(tmp.c_str(), path.c_str()) != 0)
       throw InputError("cannot write '" + path + "': " + std::strerror(errno));
