@@ -329,7 +329,8 @@ int main(int argc, char** argv) {
       } else if (is_mesh_path(mesh_in)) {
         const auto read_start = std::chrono::steady_clock::now();
         const TriangleMesh mesh = read_mesh(mesh_in);
-        const std::string problems = describe_mesh_problems(analyze_mesh(mesh));
+        const MeshReport report = analyze_mesh(mesh);
+        const std::string problems = describe_mesh_problems(report);
         if (!problems.empty() && !mesh_quiet) std::cerr << "csgfit: warning: " << problems << "\n";
         // --time is the whole run: reading the mesh and writing the result come out of it.
         const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
@@ -339,7 +340,7 @@ int main(int argc, char** argv) {
         mopt.align = !mesh_no_align;
         MeshFitResult fitted;
         try {
-          fitted = fit_mesh(mesh, options, mopt, on_progress);
+          fitted = fit_mesh(mesh, report, options, mopt, on_progress);
         } catch (const InputError& e) {
           throw InputError(std::string(e.what()) + ": '" + mesh_in + "'");
         }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "csgfit/decompose3d.h"
+#include "csgfit/evaluator.h"
 #include "csgfit/fit.h"
 #include "csgfit/tree3d.h"
 #include "csgfit/voxel_grid.h"
@@ -29,6 +30,11 @@ struct FitOptions3D {
 /// the part's size at every resolution. (100 per million, the 2D default's rule in 3D, gave
 /// 67 primitives on the InverseCSG CAD meshes where InverseCSG's programs have 61.)
 double default_k3d(const VoxelGrid& target);
+
+/// Fills the mismatch fields of `stats` (excess including the tree beyond the grid, uncovered,
+/// primitives, k, score, IoU over a target of `target_voxels`) from one measurement.
+void set_mismatch_stats(FitStats& stats, const Mismatch& mismatch, std::size_t target_voxels,
+                        std::size_t primitives, double k);
 
 struct FitResult3D {
   Node3D tree;      ///< the best tree, in the target's model coordinates

@@ -48,6 +48,12 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
                        const MeshFitOptions& mesh_options = {},
                        const ProgressCallback& progress = nullptr,
                        const std::atomic<bool>* cancel = nullptr);
+/// The same with the mesh's analyze_mesh() report already made (it walks every edge: a caller
+/// that shows its warnings before the fit need not pay for it twice).
+MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
+                       const FitOptions3D& options, const MeshFitOptions& mesh_options = {},
+                       const ProgressCallback& progress = nullptr,
+                       const std::atomic<bool>* cancel = nullptr);
 
 /// `count` points spread over the mesh's surface in proportion to area (the same for the same
 /// seed): the samples the final least-squares refinement fits to.

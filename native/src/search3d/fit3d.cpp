@@ -17,6 +17,18 @@
 
 namespace csgfit {
 
+void set_mismatch_stats(FitStats& s, const Mismatch& m, std::size_t target_voxels,
+                        std::size_t primitives, double k) {
+  s.k = k;
+  s.excess = m.excess + m.outside;
+  s.uncovered = m.uncovered;
+  s.primitives = primitives;
+  s.score = score(m, primitives, k);
+  const double tc = static_cast<double>(target_voxels);
+  const double uni = tc + static_cast<double>(s.excess);
+  s.iou = uni > 0 ? (tc - static_cast<double>(s.uncovered)) / uni : 1.0;
+}
+
 double default_k3d(const VoxelGrid& target) {
   const double n = static_cast<double>(target.nx()) * target.ny() * target.nz();
   return std::max(8.0, 200.0 * n / 1e6);
@@ -433,15 +445,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
   FitResult3D result;
   result.tree = best.tree;
   FitStats& s = result.stats;
-  s.k = pb.k;
-  s.score = best.score;
-  s.excess = best.mismatch.excess + best.mismatch.outside;
-  s.uncovered = best.mismatch.uncovered;
-  s.primitives = best.primitives;
-  const double tc = static_cast<double>(target.count());
-  const double inter = tc - static_cast<double>(best.mismatch.uncovered);
-  const double uni = tc + static_cast<double>(best.mismatch.excess + best.mismatch.outside);
-  s.iou = uni > 0 ? inter / uni : 1.0;
+  set_mismatch_stats(s, best.mismatch, target.count(), best.primitives, pb.k);
   s.evaluations = evaluations;
   s.trees = all_trees;
   s.seconds = elapsed();

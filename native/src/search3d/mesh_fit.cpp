@@ -223,12 +223,18 @@ Quaternion dominant_frame(const TriangleMesh& mesh) {
 MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
                        const MeshFitOptions& mesh_options, const ProgressCallback& progress,
                        const std::atomic<bool>* cancel) {
+  return fit_mesh(mesh, analyze_mesh(mesh), options, mesh_options, progress, cancel);
+}
+
+MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
+                       const FitOptions3D& options, const MeshFitOptions& mesh_options,
+                       const ProgressCallback& progress, const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   if (!(options.time_limit > 0)) throw std::invalid_argument("the time budget must be positive");
   if (mesh_options.resolution < 0) throw std::invalid_argument("the resolution must be >= 0");
   MeshFitResult out;
-  out.report = analyze_mesh(mesh);
+  out.report = report;
   out.frame = mesh_options.align ? dominant_frame(mesh) : Quaternion{};
 
   // The mesh in the fitting frame: frame = R^T mesh.
@@ -324,16 +330,9 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const FitOptions3D& options,
       optimize_leaves(ev, lo);
     }
     snap_to_design_values(ev, slack);
-    const Mismatch& m = ev.mismatch();
     FitStats& s = out.fit.stats;
-    s.k = out.fit.stats.k * ratio * ratio * ratio;
-    s.excess = m.excess + m.outside;
-    s.uncovered = m.uncovered;
-    s.primitives = tree.primitive_count();
-    s.score = score(m, s.primitives, s.k);
-    const double tc = static_cast<double>(grid.count());
-    const double uni = tc + static_cast<double>(s.excess);
-    s.iou = uni > 0 ? (tc - static_cast<double>(s.uncovered)) / uni : 1.0;
+    set_mismatch_stats(s, ev.mismatch(), grid.count(), tree.primitive_count(),
+                       s.k * ratio * ratio * ratio);
     s.evaluations = search_evaluations + ev.evaluations();
     out.fit.tree = std::move(tree);
     if (on_fine) out.grid = std::move(fine);
