@@ -102,6 +102,56 @@ TEST(SnapToDesignValues, SquaresUpNearlyAlignedPrimitivesAndEqualisesRadii) {
   EXPECT_LE(ev2.mismatch().total(), before);
 }
 
+TEST(AxisPlanes, AreTheFacesOfAnAxisAlignedPartWithTheirAreas) {
+  const TriangleMesh box = turned_box({0, 0, 0}, {4, 2, 1});
+  const std::vector<AxisPlane> planes = axis_planes(box, 1e-6, 0);
+  ASSERT_EQ(planes.size(), 6u);
+  const double expected[3][2] = {{0, 4}, {0, 2}, {0, 1}};
+  const double area[3] = {2, 4, 8};
+  for (const AxisPlane& pl : planes) {
+    EXPECT_TRUE(pl.offset == expected[pl.axis][0] || pl.offset == expected[pl.axis][1]) << pl.offset;
+    EXPECT_NEAR(pl.area, area[pl.axis], 1e-12);
+  }
+  // Faces below the minimum area are dropped; a turned part has no axis planes at all.
+  EXPECT_EQ(axis_planes(box, 1e-6, 3).size(), 4u);
+  EXPECT_TRUE(axis_planes(turned_box({0, 0, 0}, {4, 2, 1}, Quaternion::from_euler_deg(0, 0, 10)), 1e-6, 0)
+                  .size() == 2u);  // only the top and bottom stay perpendicular to z
+}
+
+TEST(SnapToPlanes, PutsFacesOnTheInputsPlanesAndMakesSharedFacesCoplanar) {
+  // Two boxes whose tops should both be the part's top at z = 10.3 but sit a few hundredths
+  // of a voxel apart, and whose outer faces are off by a fraction of a voxel: the voxels cannot
+  // see any of it, the planes can.
+  const VoxelGrid frame(30, 20, 20, 0, 0, 0, 1.0);
+  VoxelGrid target = frame;
+  const Primitive3D a = Primitive3D::box(8.0, 10.0, 6.15, 12.0, 10.0, 8.3);   // z 2.0 .. 10.3
+  const Primitive3D b = Primitive3D::box(20.0, 10.0, 6.15, 12.0, 10.0, 8.3);
+  rasterize(a, target);
+  rasterize(b, target);
+  const TriangleMesh mesh = turned_box({2.0, 5.0, 2.0}, {26.0, 15.0, 10.3});
+  Node3D tree = Node3D::op(NodeKind::Union, {Node3D::leaf(Primitive3D::box(8.1, 10.0, 6.2, 12.0, 10.2, 8.3)),
+                                             Node3D::leaf(Primitive3D::box(19.9, 10.0, 6.14, 12.0, 10.0, 8.3))});
+  TreeEvaluator3D ev(target, tree);
+  const std::size_t before = ev.mismatch().total();
+  EXPECT_GE(snap_to_planes(ev, axis_planes(mesh, 1e-6, 1), 0.4, 0), 5u);
+  EXPECT_LE(ev.mismatch().total(), before);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const Primitive3D& p = ev.leaf(i);
+    EXPECT_NEAR(p.cz + 0.5 * p.dims[2], 10.3, 1e-12) << i;  // both tops on the plane
+    EXPECT_NEAR(p.cz - 0.5 * p.dims[2], 2.0, 1e-12) << i;
+    EXPECT_NEAR(p.cy - 0.5 * p.dims[1], 5.0, 1e-12) << i;
+    EXPECT_NEAR(p.cy + 0.5 * p.dims[1], 15.0, 1e-12) << i;
+  }
+  EXPECT_NEAR(ev.leaf(0).cx - 0.5 * ev.leaf(0).dims[0], 2.0, 1e-12);
+  EXPECT_NEAR(ev.leaf(1).cx + 0.5 * ev.leaf(1).dims[0], 26.0, 1e-12);
+  // The inner faces (x = 14.1 and 13.9) have no plane within reach and stay.
+  EXPECT_NEAR(ev.leaf(0).cx + 0.5 * ev.leaf(0).dims[0], 14.1, 1e-12);
+  // Nothing within the tolerance, nothing moves.
+  Node3D far = Node3D::leaf(Primitive3D::box(8.0, 10.0, 5.0, 8.0, 6.0, 2.0));
+  TreeEvaluator3D ev2(target, far);
+  EXPECT_EQ(snap_to_planes(ev2, axis_planes(mesh, 1e-6, 1), 0.4, 1e9), 0u);
+}
+
 TEST(FitMesh, ATurnedBlockIsOneBoxInItsOwnFrame) {
   // The tests end by convergence, not the clock: the budget is generous for such a part.
   const Quaternion q = Quaternion::from_euler_deg(10, 20, 30);

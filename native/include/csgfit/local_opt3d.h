@@ -59,6 +59,23 @@ std::size_t refine_to_surface(TreeEvaluator3D& evaluator, const std::vector<Vec3
 /// one another become equal. Returns the number of snaps kept.
 std::size_t snap_to_design_values(TreeEvaluator3D& evaluator, double voxel_slack);
 
+/// A planar face of the input perpendicular to a grid axis: the plane axis = offset, and the
+/// area of the input's surface on it.
+struct AxisPlane {
+  int axis = 0;
+  double offset = 0;
+  double area = 0;
+};
+
+/// Moves every axis-aligned planar face of a leaf (the six faces of a box, the end faces of a
+/// cylinder, cone or prism) onto the nearest of `planes` on its axis when that is within
+/// `tolerance` (model units), while the voxel mismatch stays within `voxel_slack` of where it
+/// started (one allowance for all). The voxels only know a face to within half a voxel and the
+/// surface fit leaves faces a hair apart where several primitives share one; on the input's
+/// own plane a face is exact and neighbouring faces become coplanar. Returns faces moved.
+std::size_t snap_to_planes(TreeEvaluator3D& evaluator, const std::vector<AxisPlane>& planes,
+                           double tolerance, double voxel_slack);
+
 /// Removes primitives whose removal costs fewer than k mismatched voxels, one at a time, best
 /// first, then simplifies the tree. Returns the number removed.
 std::size_t prune(Node3D& tree, const VoxelGrid& target, double k);

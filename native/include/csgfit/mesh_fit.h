@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "csgfit/fit3d.h"
+#include "csgfit/local_opt3d.h"
 #include "csgfit/mesh_io.h"
 
 namespace csgfit {
@@ -58,6 +59,11 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
 /// `count` points spread over the mesh's surface in proportion to area (the same for the same
 /// seed): the samples the final least-squares refinement fits to.
 std::vector<Vec3> surface_samples(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed);
+
+/// The mesh's planar faces perpendicular to a model axis (normals within half a degree of it):
+/// faces whose offsets lie within `merge` of one another are one plane (at their area-weighted
+/// mean), kept when it carries at least `min_area`. What snap_to_planes snaps faces to.
+std::vector<AxisPlane> axis_planes(const TriangleMesh& mesh, double merge, double min_area);
 
 /// Rotates every primitive of the tree by q about the origin (centres and orientations).
 void rotate_tree(Node3D& tree, const Quaternion& q);

@@ -344,6 +344,71 @@ std::size_t snap_to_design_values(TreeEvaluator3D& ev, double voxel_slack) {
   return kept;
 }
 
+std::size_t snap_to_planes(TreeEvaluator3D& ev, const std::vector<AxisPlane>& planes,
+                           double tolerance, double voxel_slack) {
+  if (planes.empty() || !(tolerance > 0)) return 0;
+  std::vector<double> offsets[3];
+  for (const AxisPlane& pl : planes)
+    if (pl.axis >= 0 && pl.axis < 3 && std::isfinite(pl.offset)) offsets[pl.axis].push_back(pl.offset);
+  for (auto& o : offsets) std::sort(o.begin(), o.end());
+  auto nearest = [&](int axis, double f) {
+    const auto& o = offsets[axis];
+    double best = f;
+    double best_d = tolerance;
+    auto it = std::lower_bound(o.begin(), o.end(), f);
+    for (auto jt : {it, it == o.begin() ? it : it - 1}) {
+      if (jt == o.end()) continue;
+      const double d = std::fabs(*jt - f);
+      if (d <= best_d) {
+        best_d = d;
+        best = *jt;
+      }
+    }
+    return best;
+  };
+  const double ceiling = static_cast<double>(ev.mismatch().total()) + voxel_slack;
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+    const PrimitiveKind3D kind = ev.leaf(i).kind;
+    // Local axes with planar end faces: all three for a box, the axis (z) for extrusions.
+    int first = 2;
+    if (kind == PrimitiveKind3D::Box) first = 0;
+    else if (kind != PrimitiveKind3D::Cylinder && kind != PrimitiveKind3D::Cone &&
+             kind != PrimitiveKind3D::TriangularPrism)
+      continue;
+    for (int j = first; j < 3; ++j) {
+      for (int side = -1; side <= 1; side += 2) {
+        const Primitive3D& p = ev.leaf(i);
+        const Mat3 r = p.rotation.matrix();
+        int axis = -1;
+        for (int a = 0; a < 3; ++a)
+          if (std::fabs(std::fabs(r[a][j]) - 1) < 1e-9) axis = a;
+        if (axis < 0) break;  // this local axis is not along a grid axis
+        // The face's world offset and the opposite face's, which stays where it is.
+        const double c = axis == 0 ? p.cx : axis == 1 ? p.cy : p.cz;
+        const double half = 0.5 * p.dims[static_cast<std::size_t>(j)] * (r[axis][j] > 0 ? 1 : -1);
+        const double face = c + side * half, other = c - side * half;
+        const double target = nearest(axis, face);
+        if (target == face) continue;
+        const double size = std::fabs(target - other);
+        if (!(size > 0)) continue;
+        Primitive3D q = p;
+        q.dims[static_cast<std::size_t>(j)] = size;
+        const double centre = 0.5 * (target + other);
+        (axis == 0 ? q.cx : axis == 1 ? q.cy : q.cz) = centre;
+        q.normalize();
+        if (q == p) continue;
+        const Mismatch m = ev.try_leaf(i, q);
+        if (static_cast<double>(m.total()) > ceiling) continue;
+        ev.leaf(i) = q;
+        ev.update_leaf(i);
+        ++moved;
+      }
+    }
+  }
+  return moved;
+}
+
 std::size_t prune(Node3D& tree, const VoxelGrid& target, double k) {
   std::size_t removed = 0;
   const std::size_t target_count = target.count();
