@@ -50,6 +50,10 @@ class TreeEvaluator3D {
   /// anything. A removed first child of a difference removes the whole difference.
   Mismatch try_without_leaf(std::size_t i);
 
+  /// The tree's signed distance at a point, composed as signed_distance(const Node3D&, ...)
+  /// does, with the leaves as they are now.
+  double signed_distance(double x, double y, double z) const;
+
   /// Number of full or incremental evaluations done so far.
   std::size_t evaluations() const { return evaluations_; }
 
@@ -69,6 +73,7 @@ class TreeEvaluator3D {
     Rows rows;  // leaves: the rows their mask may have set
   };
   int build(Node3D& node, int parent);
+  double signed_distance(int slot, double x, double y, double z) const;
   Rows rows_of(const Primitive3D& p) const;
   Rows all_rows() const;
   static Rows hull(const Rows& a, const Rows& b);

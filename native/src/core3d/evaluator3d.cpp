@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 namespace csgfit {
@@ -85,6 +86,27 @@ int TreeEvaluator3D::build(Node3D& node, int parent) {
   }
   combine(self, masks_[self], all_rows());
   return self;
+}
+
+double TreeEvaluator3D::signed_distance(int slot, double x, double y, double z) const {
+  const Slot& s = slots_[static_cast<std::size_t>(slot)];
+  if (s.primitive) return s.primitive->signed_distance(x, y, z);
+  if (s.children.empty()) return std::numeric_limits<double>::infinity();
+  double d = signed_distance(s.children[0], x, y, z);
+  for (std::size_t c = 1; c < s.children.size(); ++c) {
+    const double e = signed_distance(s.children[c], x, y, z);
+    switch (s.kind) {
+      case NodeKind::Union:
+      case NodeKind::Primitive: d = std::min(d, e); break;
+      case NodeKind::Difference: d = std::max(d, -e); break;
+      case NodeKind::Intersection: d = std::max(d, e); break;
+    }
+  }
+  return d;
+}
+
+double TreeEvaluator3D::signed_distance(double x, double y, double z) const {
+  return root_ < 0 ? std::numeric_limits<double>::infinity() : signed_distance(root_, x, y, z);
 }
 
 bool TreeEvaluator3D::slot_bounds(int slot, int swap, const Primitive3D* replacement,

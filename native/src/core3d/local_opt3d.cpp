@@ -243,6 +243,23 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
   // The slack is one allowance for the whole refinement, not per primitive: spent a little at
   // a time by a hundred primitives it would add up to a visible loss.
   const double ceiling = static_cast<double>(ev.mismatch().total()) + options.voxel_slack;
+  // The judge of a refined primitive is the whole tree's surface: the squared signed distance
+  // of the tree at every sample, capped at the inlier distance so that a feature the tree
+  // lacks does not dominate. A primitive's own samples can pull it where it no longer makes
+  // the tree's surface (a box hidden inside another takes samples of the face above it), so a
+  // refinement that lowers its own residual is kept only if it lowers the tree's.
+  // Clamping commutes with min, max and negation, so the capped tree distance can change only
+  // at samples within the cap of the changed primitive's old or new surface: only those are
+  // re-evaluated.
+  const double cap = options.inlier * voxel;
+  auto capped = [&](const Vec3& s) {
+    const double d = std::min(std::fabs(ev.signed_distance(s[0], s[1], s[2])), cap);
+    return d * d;
+  };
+  std::vector<double> contribution(samples.size());
+  for (std::size_t k = 0; k < samples.size(); ++k) contribution[k] = capped(samples[k]);
+  std::vector<std::size_t> near;
+  std::vector<double> trial;
   for (int round = 0; round < options.rounds; ++round) {
     std::vector<std::vector<const Vec3*>> assigned(n);
     const double limit = options.inlier * voxel;
@@ -268,7 +285,26 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
       if (refined == ev.leaf(i)) continue;
       const Mismatch m = ev.try_leaf(i, refined);
       if (static_cast<double>(m.total()) > ceiling) continue;
+      const Primitive3D old = ev.leaf(i);
+      near.clear();
+      for (std::size_t k = 0; k < samples.size(); ++k) {
+        const Vec3& s = samples[k];
+        if (std::fabs(old.signed_distance(s[0], s[1], s[2])) < cap ||
+            std::fabs(refined.signed_distance(s[0], s[1], s[2])) < cap)
+          near.push_back(k);
+      }
       ev.leaf(i) = refined;
+      trial.resize(near.size());
+      double delta = 0;
+      for (std::size_t j = 0; j < near.size(); ++j) {
+        trial[j] = capped(samples[near[j]]);
+        delta += trial[j] - contribution[near[j]];
+      }
+      if (!(delta < 0)) {
+        ev.leaf(i) = old;
+        continue;
+      }
+      for (std::size_t j = 0; j < near.size(); ++j) contribution[near[j]] = trial[j];
       ev.update_leaf(i);
       ++round_changes;
     }
