@@ -247,7 +247,8 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
   // of the tree at every sample, capped at the inlier distance so that a feature the tree
   // lacks does not dominate. A primitive's own samples can pull it where it no longer makes
   // the tree's surface (a box hidden inside another takes samples of the face above it), so a
-  // refinement that lowers its own residual is kept only if it lowers the tree's.
+  // refinement that lowers its own residual is kept only if it lowers the tree's, or the
+  // voxel mismatch.
   // Clamping commutes with min, max and negation, so the capped tree distance can change only
   // at samples within the cap of the changed primitive's old or new surface: only those are
   // re-evaluated.
@@ -300,7 +301,9 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
         trial[j] = capped(samples[near[j]]);
         delta += trial[j] - contribution[near[j]];
       }
-      if (!(delta < 0)) {
+      // The capped samples cannot see a correction of more than the cap (a search tree far
+      // off on the fine grid); the voxels can: either judge may approve.
+      if (!(delta < 0) && m.total() >= ev.mismatch().total()) {
         ev.leaf(i) = old;
         continue;
       }
