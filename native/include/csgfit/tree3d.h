@@ -64,6 +64,18 @@ bool contains(const Node3D& root, double x, double y, double z);
 /// which is what surface-sample fitting needs: zero exactly on the tree's surface.
 double signed_distance(const Node3D& root, double x, double y, double z);
 
+/// One step of that composition: the distance so far of an operator's first children combined
+/// with the next child's.
+inline double compose_distance(NodeKind kind, double so_far, double child) {
+  switch (kind) {
+    case NodeKind::Difference: return so_far > -child ? so_far : -child;
+    case NodeKind::Intersection: return so_far > child ? so_far : child;
+    case NodeKind::Union:
+    case NodeKind::Primitive: break;
+  }
+  return so_far < child ? so_far : child;
+}
+
 /// A one-line text form for logs and tests, e.g. "difference(box, union(cylinder, sphere))".
 std::string structure_string(const Node3D& root);
 

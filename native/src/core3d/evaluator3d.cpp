@@ -93,15 +93,8 @@ double TreeEvaluator3D::signed_distance(int slot, double x, double y, double z) 
   if (s.primitive) return s.primitive->signed_distance(x, y, z);
   if (s.children.empty()) return std::numeric_limits<double>::infinity();
   double d = signed_distance(s.children[0], x, y, z);
-  for (std::size_t c = 1; c < s.children.size(); ++c) {
-    const double e = signed_distance(s.children[c], x, y, z);
-    switch (s.kind) {
-      case NodeKind::Union:
-      case NodeKind::Primitive: d = std::min(d, e); break;
-      case NodeKind::Difference: d = std::max(d, -e); break;
-      case NodeKind::Intersection: d = std::max(d, e); break;
-    }
-  }
+  for (std::size_t c = 1; c < s.children.size(); ++c)
+    d = compose_distance(s.kind, d, signed_distance(s.children[c], x, y, z));
   return d;
 }
 

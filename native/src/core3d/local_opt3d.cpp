@@ -263,10 +263,9 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
   std::vector<double> trial;
   for (int round = 0; round < options.rounds; ++round) {
     std::vector<std::vector<const Vec3*>> assigned(n);
-    const double limit = options.inlier * voxel;
     for (const Vec3& s : samples) {
       std::size_t best = n;
-      double best_d = limit;
+      double best_d = cap;
       for (std::size_t i = 0; i < n; ++i) {
         const double d = std::fabs(ev.leaf(i).signed_distance(s[0], s[1], s[2]));
         if (d < best_d) {
@@ -425,7 +424,7 @@ std::size_t snap_to_planes(TreeEvaluator3D& ev, const std::vector<AxisPlane>& pl
         if (axis < 0) break;  // this local axis is not along a grid axis
         // The face's world offset and the opposite face's, which stays where it is.
         const double c = axis == 0 ? p.cx : axis == 1 ? p.cy : p.cz;
-        const double half = 0.5 * p.dims[static_cast<std::size_t>(j)] * (r[axis][j] > 0 ? 1 : -1);
+        const double half = 0.5 * p.dims[static_cast<std::size_t>(j)];
         const double face = c + side * half, other = c - side * half;
         const double target = nearest(axis, face);
         if (target == face) continue;

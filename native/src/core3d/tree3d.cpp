@@ -77,15 +77,8 @@ double signed_distance(const Node3D& n, double x, double y, double z) {
   if (n.is_leaf()) return n.primitive.signed_distance(x, y, z);
   if (n.children.empty()) return std::numeric_limits<double>::infinity();  // the empty set
   double d = signed_distance(n.children[0], x, y, z);
-  for (std::size_t i = 1; i < n.children.size(); ++i) {
-    const double c = signed_distance(n.children[i], x, y, z);
-    switch (n.kind) {
-      case NodeKind::Union:
-      case NodeKind::Primitive: d = std::min(d, c); break;
-      case NodeKind::Difference: d = std::max(d, -c); break;
-      case NodeKind::Intersection: d = std::max(d, c); break;
-    }
-  }
+  for (std::size_t i = 1; i < n.children.size(); ++i)
+    d = compose_distance(n.kind, d, signed_distance(n.children[i], x, y, z));
   return d;
 }
 

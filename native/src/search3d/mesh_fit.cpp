@@ -40,6 +40,18 @@ struct Facet {
   double area;
 };
 
+// Triangle t's unit normal and area; false for a degenerate or non-finite triangle.
+bool facet_of(const TriangleMesh& mesh, std::size_t t, Facet& f) {
+  const auto& tri = mesh.triangles[t];
+  const auto& p0 = mesh.vertices[static_cast<std::size_t>(tri[0])];
+  const auto& p1 = mesh.vertices[static_cast<std::size_t>(tri[1])];
+  const auto& p2 = mesh.vertices[static_cast<std::size_t>(tri[2])];
+  f.n = cross(Vec3{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]},
+              Vec3{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]});
+  f.area = 0.5 * std::sqrt(dot(f.n, f.n));
+  return f.area > 0 && std::isfinite(f.area) && normalized(f.n);
+}
+
 // Face area whose normal lies within the cone around +-d.
 double aligned_area(const std::vector<Facet>& facets, const Vec3& d, double cos_tol) {
   double a = 0;
@@ -65,17 +77,16 @@ Vec3 refine(const std::vector<Facet>& facets, const Vec3& d, double cos_tol) {
 std::vector<AxisPlane> axis_planes(const TriangleMesh& mesh, double merge, double min_area) {
   const double cos_tol = std::cos(0.5 * 3.14159265358979323846 / 180);
   std::vector<AxisPlane> faces;
-  for (const auto& tri : mesh.triangles) {
-    const auto& p0 = mesh.vertices[static_cast<std::size_t>(tri[0])];
-    const auto& p1 = mesh.vertices[static_cast<std::size_t>(tri[1])];
-    const auto& p2 = mesh.vertices[static_cast<std::size_t>(tri[2])];
-    Vec3 n = cross(Vec3{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]},
-                   Vec3{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]});
-    const double area = 0.5 * std::sqrt(dot(n, n));
-    if (!(area > 0) || !std::isfinite(area) || !normalized(n)) continue;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    Facet f;
+    if (!facet_of(mesh, t, f)) continue;
+    const auto& tri = mesh.triangles[t];
     for (int a = 0; a < 3; ++a)
-      if (std::fabs(n[a]) >= cos_tol)
-        faces.push_back({a, (p0[a] + p1[a] + p2[a]) / 3, area});
+      if (std::fabs(f.n[a]) >= cos_tol) {
+        double offset = 0;
+        for (int v : tri) offset += mesh.vertices[static_cast<std::size_t>(v)][a];
+        faces.push_back({a, offset / 3, f.area});
+      }
   }
   std::sort(faces.begin(), faces.end(), [](const AxisPlane& x, const AxisPlane& y) {
     return x.axis != y.axis ? x.axis < y.axis : x.offset < y.offset;
@@ -162,16 +173,10 @@ Quaternion dominant_frame(const TriangleMesh& mesh) {
   facets.reserve(nt / stride + 1);
   double total = 0;
   for (std::size_t t = 0; t < nt; t += stride) {
-    const auto& tri = mesh.triangles[t];
-    const auto& p0 = mesh.vertices[static_cast<std::size_t>(tri[0])];
-    const auto& p1 = mesh.vertices[static_cast<std::size_t>(tri[1])];
-    const auto& p2 = mesh.vertices[static_cast<std::size_t>(tri[2])];
-    Vec3 n = cross(Vec3{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]},
-                   Vec3{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]});
-    const double area = 0.5 * std::sqrt(dot(n, n));
-    if (!(area > 0) || !std::isfinite(area) || !normalized(n)) continue;
-    facets.push_back({n, area});
-    total += area;
+    Facet f;
+    if (!facet_of(mesh, t, f)) continue;
+    facets.push_back(f);
+    total += f.area;
   }
   if (facets.empty() || !(total > 0)) return Quaternion{};
   const double cos_tol = std::cos(2.0 * 3.14159265358979323846 / 180);
