@@ -170,6 +170,60 @@ TEST(Evaluator3D, CountsTheTreeBeyondTheGrid) {
   EXPECT_EQ(TreeEvaluator3D(target, clipped).mismatch().outside, 0u);
 }
 
+// Two lattices: every count is the sum of what each lattice's own evaluator reports, through
+// updates, trials and removals.
+TEST(Evaluator3D, StaggeredLatticeCountsAreTheSumOfBothLattices) {
+  std::mt19937_64 rng(17);
+  const double h = kFrame.voxel_size();
+  const VoxelGrid shifted_frame(kNx, kNy, kNz, kFrame.origin_x() + h / 2, kFrame.origin_y() + h / 2,
+                                kFrame.origin_z() + h / 2, h);
+  const Node3D part = random_tree(rng, 2);
+  const VoxelGrid target = render(part, kFrame), staggered = render(part, shifted_frame);
+  auto sum_equals = [](const Mismatch& both, const Mismatch& a, const Mismatch& b) {
+    return both.excess == a.excess + b.excess && both.uncovered == a.uncovered + b.uncovered &&
+           both.outside == a.outside + b.outside;
+  };
+  for (int i = 0; i < 20; ++i) {
+    Node3D t = random_tree(rng, 3);
+    TreeEvaluator3D both(target, staggered, t), a(target, t), b(staggered, t);
+    ASSERT_TRUE(both.staggered());
+    ASSERT_TRUE(sum_equals(both.mismatch(), a.mismatch(), b.mismatch()));
+    for (int step = 0; step < 8; ++step) {
+      const std::size_t leaf = rng() % both.leaf_count();
+      const Primitive3D p = random_primitive(rng);
+      ASSERT_TRUE(sum_equals(both.try_leaf(leaf, p), a.try_leaf(leaf, p), b.try_leaf(leaf, p)));
+      if (both.leaf_count() > 1)
+        ASSERT_TRUE(sum_equals(both.try_without_leaf(leaf), a.try_without_leaf(leaf),
+                               b.try_without_leaf(leaf)));
+      both.leaf(leaf) = p;  // a and b share the tree's leaves
+      const Mismatch updated = both.update_leaf(leaf);
+      ASSERT_TRUE(sum_equals(updated, a.update_leaf(leaf), b.update_leaf(leaf)));
+      ASSERT_EQ(both.result(), a.result());
+    }
+  }
+}
+
+// What the staggered lattice is for: a sheet 0.4 voxel thick between two rows of centres
+// (a plate left on top of a part, a slit cut into it) costs nothing on one lattice and renders;
+// the staggered lattice's rows run through it.
+TEST(Evaluator3D, StaggeredLatticeSeesASheetBetweenRowsOfCentres) {
+  // Centres at k + 0.5 on the first lattice, at k on the staggered one.
+  const VoxelGrid frame(20, 20, 20, 0, 0, 0, 1.0), shifted(20, 20, 20, 0.5, 0.5, 0.5, 1.0);
+  // x, y in [4.2, 15.8]: 12 centres across on the first lattice, 11 on the staggered one.
+  const Node3D part = Node3D::leaf(Primitive3D::box(10, 10, 8, 11.6, 11.6, 8));
+  const VoxelGrid target = render(part, frame), staggered = render(part, shifted);
+  // A plate z in [12.8, 13.2] above the part: between the first lattice's 12.5 and 13.5.
+  Node3D sheet =
+      Node3D::op(NodeKind::Union, {part, Node3D::leaf(Primitive3D::box(10, 10, 13, 11.6, 11.6, 0.4))});
+  EXPECT_EQ(TreeEvaluator3D(target, sheet).mismatch().total(), 0u);
+  EXPECT_EQ(TreeEvaluator3D(target, staggered, sheet).mismatch().excess, 11u * 11);
+  // A slit z in [7.8, 8.2] through the part: uncovered only on the staggered lattice.
+  Node3D slit =
+      Node3D::op(NodeKind::Difference, {part, Node3D::leaf(Primitive3D::box(10, 10, 8, 14, 14, 0.4))});
+  EXPECT_EQ(TreeEvaluator3D(target, slit).mismatch().total(), 0u);
+  EXPECT_EQ(TreeEvaluator3D(target, staggered, slit).mismatch().uncovered, 11u * 11);
+}
+
 TEST(Tree3D, SimplifyKeepsTheShapeAndFlattens) {
   std::mt19937_64 rng(13);
   for (int i = 0; i < 100; ++i) {

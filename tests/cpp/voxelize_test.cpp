@@ -271,6 +271,32 @@ TEST(VoxelizeTest, FastEnoughAt96WithTenThousandTriangles) {
   EXPECT_LT(open_seconds, 30.0);
 }
 
+// lattice_shift moves the centres by a fraction of a voxel and nothing else: same size, same
+// voxel edge, and the same solid seen from between the first lattice's rows.
+TEST(VoxelizeTest, StaggeredLatticeIsShiftedByHalfAVoxel) {
+  // 2.04 x 1.04 x 1.04 on 0.1 voxels: the first lattice's centres lie 0.02 inside the faces
+  // (21 x 11 x 11 of them), the staggered one's 0.07 inside (20 x 10 x 10); no centre on a face.
+  const TriangleMesh m = box({0, 0, 0}, {2.04, 1.04, 1.04});
+  VoxelizeOptions o;
+  o.voxel_size = 0.1;
+  VoxelizeOptions s = o;
+  s.lattice_shift = 0.5;
+  const VoxelGrid a = voxelize(m, o), b = voxelize(m, s);
+  EXPECT_EQ(a.nx(), b.nx());
+  EXPECT_EQ(a.ny(), b.ny());
+  EXPECT_EQ(a.nz(), b.nz());
+  EXPECT_NEAR(b.origin_x() - a.origin_x(), 0.05, 1e-12);
+  EXPECT_NEAR(b.origin_y() - a.origin_y(), 0.05, 1e-12);
+  EXPECT_NEAR(b.origin_z() - a.origin_z(), 0.05, 1e-12);
+  EXPECT_EQ(a.count(), 21u * 11 * 11);
+  EXPECT_EQ(b.count(), 20u * 10 * 10);
+  for (double bad : {-0.1, 1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    VoxelizeOptions w = o;
+    w.lattice_shift = bad;
+    EXPECT_THROW(voxelize(m, w), InputError);
+  }
+}
+
 TEST(VoxelizeTest, BadInput) {
   auto message = [](const TriangleMesh& m, const VoxelizeOptions& o) -> std::string {
     try {

@@ -19,6 +19,10 @@ struct Mismatch {
   std::size_t total() const { return excess + uncovered + outside; }
 };
 
+inline Mismatch operator+(const Mismatch& a, const Mismatch& b) {
+  return Mismatch{a.excess + b.excess, a.uncovered + b.uncovered, a.outside + b.outside};
+}
+
 /// Score of seed 000: excess + uncovered + k x primitives (lower is better).
 inline double score(const Mismatch& m, std::size_t primitives, double k) {
   return static_cast<double>(m.total()) + k * static_cast<double>(primitives);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "csgfit/evaluator.h"
@@ -29,7 +30,17 @@ class TreeEvaluator3D {
  public:
   /// Throws std::invalid_argument on an operator without children.
   TreeEvaluator3D(const VoxelGrid& target, Node3D& tree);
+  /// Counts the mismatch on two samplings of the part: `target`, and `staggered`, the same part
+  /// on a lattice shifted by half a voxel along every axis (voxelize's lattice_shift). On one
+  /// lattice a face can sit anywhere between two rows of centres at no cost, so a sheet of a
+  /// primitive thinner than a voxel, or a slit between two, is invisible to it and yet renders;
+  /// the staggered centres halve the spacing along each axis and see it. Every mismatch this
+  /// evaluator reports is the sum over both lattices (about twice one lattice's counts);
+  /// result(), target() and the masks are those of `target`.
+  TreeEvaluator3D(const VoxelGrid& target, const VoxelGrid& staggered, Node3D& tree);
 
+  /// Whether a staggered lattice is counted too.
+  bool staggered() const { return staggered_ != nullptr; }
   /// Mismatch of the current tree.
   const Mismatch& mismatch() const { return mismatch_; }
   /// The root's voxels.
@@ -95,7 +106,9 @@ class TreeEvaluator3D {
   std::vector<int> leaf_slots_;
   std::vector<Primitive3D*> leaf_prims_;
   int root_ = -1;
-  Mismatch mismatch_;
+  Mismatch own_;       // this lattice's
+  Mismatch mismatch_;  // own_ plus the staggered lattice's
+  std::unique_ptr<TreeEvaluator3D> staggered_;
   std::size_t evaluations_ = 0;
   VoxelGrid scratch_leaf_;
   std::vector<VoxelGrid> scratch_path_;

@@ -62,9 +62,16 @@ TreeEvaluator3D::TreeEvaluator3D(const VoxelGrid& target, Node3D& tree)
   root_ = build(tree, -1);
   // One scratch grid per level of the deepest path.
   scratch_path_.assign(tree.depth() + 1, empty_like(target));
-  mismatch_ = measure(masks_[root_], all_rows());
-  mismatch_.outside = outside_voxels(-1, nullptr);
+  own_ = measure(masks_[root_], all_rows());
+  own_.outside = outside_voxels(-1, nullptr);
+  mismatch_ = own_;
   ++evaluations_;
+}
+
+TreeEvaluator3D::TreeEvaluator3D(const VoxelGrid& target, const VoxelGrid& staggered, Node3D& tree)
+    : TreeEvaluator3D(target, tree) {
+  staggered_ = std::make_unique<TreeEvaluator3D>(staggered, tree);
+  mismatch_ = own_ + staggered_->mismatch();
 }
 
 int TreeEvaluator3D::build(Node3D& node, int parent) {
@@ -225,8 +232,8 @@ Mismatch TreeEvaluator3D::delta(const VoxelGrid& changed_root, const Rows& r) co
   const Mismatch before = measure(masks_[root_], r);
   const Mismatch after = measure(changed_root, r);
   Mismatch m;
-  m.excess = mismatch_.excess - before.excess + after.excess;
-  m.uncovered = mismatch_.uncovered - before.uncovered + after.uncovered;
+  m.excess = own_.excess - before.excess + after.excess;
+  m.uncovered = own_.uncovered - before.uncovered + after.uncovered;
   return m;
 }
 
@@ -242,10 +249,11 @@ const Mismatch& TreeEvaluator3D::update_leaf(std::size_t i) {
   slots_[slot].rows = fresh;
   for (int p = slots_[slot].parent; p != -1; p = slots_[p].parent) combine(p, masks_[p], r);
   const Mismatch after = measure(masks_[root_], r);
-  mismatch_.excess = mismatch_.excess - before.excess + after.excess;
-  mismatch_.uncovered = mismatch_.uncovered - before.uncovered + after.uncovered;
-  mismatch_.outside = outside_voxels(-1, nullptr);
+  own_.excess = own_.excess - before.excess + after.excess;
+  own_.uncovered = own_.uncovered - before.uncovered + after.uncovered;
+  own_.outside = outside_voxels(-1, nullptr);
   ++evaluations_;
+  mismatch_ = staggered_ ? own_ + staggered_->update_leaf(i) : own_;
   return mismatch_;
 }
 
@@ -293,7 +301,7 @@ Mismatch TreeEvaluator3D::try_leaf(std::size_t i, const Primitive3D& p) {
                                                : propagate_scratch(slot, &scratch_leaf_, r),
                      r);
   m.outside = outside_voxels(slot, &q);
-  return m;
+  return staggered_ ? m + staggered_->try_leaf(i, p) : m;
 }
 
 Mismatch TreeEvaluator3D::try_without_leaf(std::size_t i) {
@@ -315,7 +323,7 @@ Mismatch TreeEvaluator3D::try_without_leaf(std::size_t i) {
   }
   Mismatch m = delta(propagate_scratch(slot, nullptr, r), r);
   m.outside = outside_voxels(slot, nullptr);
-  return m;
+  return staggered_ ? m + staggered_->try_without_leaf(i) : m;
 }
 
 }  // namespace csgfit

@@ -242,7 +242,10 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
   if (n == 0 || samples.empty()) return 0;
   // The slack is one allowance for the whole refinement, not per primitive: spent a little at
   // a time by a hundred primitives it would add up to a visible loss.
-  const double ceiling = static_cast<double>(ev.mismatch().total()) + options.voxel_slack;
+  // It is measured from the best count seen so far: a search tree that a second lattice shows
+  // to be far off (model 140: 804 voxels on the search's lattice, 33 617 on the staggered one)
+  // must not leave the refinement a ceiling so high that it may trade back everything it gains.
+  double ceiling = static_cast<double>(ev.mismatch().total()) + options.voxel_slack;
   // The judge of a refined primitive is the whole tree's surface: the squared signed distance
   // of the tree at every sample, capped at the inlier distance so that a feature the tree
   // lacks does not dominate. A primitive's own samples can pull it where it no longer makes
@@ -308,6 +311,7 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
       }
       for (std::size_t j = 0; j < near.size(); ++j) contribution[near[j]] = trial[j];
       ev.update_leaf(i);
+      ceiling = std::min(ceiling, static_cast<double>(ev.mismatch().total()) + options.voxel_slack);
       ++round_changes;
     }
     changed += round_changes;

@@ -341,6 +341,8 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
   if (options.margin < 0 || options.margin > 1000) {
     throw InputError("voxel margin " + std::to_string(options.margin) + " is outside 0..1000");
   }
+  if (!(options.lattice_shift >= 0 && options.lattice_shift < 1))
+    throw InputError("lattice shift " + std::to_string(options.lattice_shift) + " is outside [0, 1)");
   double h = options.voxel_size;
   if (!(h > 0)) {
     if (options.resolution < 1) {
@@ -361,7 +363,7 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
                        std::to_string(options.max_voxels) + " voxels for this mesh (the limit)");
     }
     n[a] = static_cast<int>(count);
-    origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * h;
+    origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * h + options.lattice_shift * h;
   }
   const std::size_t voxels = static_cast<std::size_t>(n[0]) * n[1] * n[2];
   const std::size_t stride[3] = {1, static_cast<std::size_t>(n[0]),

@@ -342,8 +342,8 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
     const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
                                       std::chrono::duration<double>(0.98 * options.time_limit));
     VoxelGrid fine;
+    VoxelizeOptions fopt;
     if (polish) {
-      VoxelizeOptions fopt;
       fopt.voxel_size = h_fine;
       // As wide a margin as the coarse grid's: a face the search left anywhere in a coarse
       // voxel of margin must not count as beyond the fine grid (Mismatch::outside).
@@ -353,8 +353,15 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
     const bool on_fine = polish && fine.count() > 0;
     const VoxelGrid& grid = on_fine ? fine : coarse;
     const double ratio = coarse.voxel_size() / grid.voxel_size();
+    // The polish counts voxels on two staggered lattices: on one, the search leaves sheets
+    // thinner than a voxel between its rows of centres at no cost (model 167: a disc 0.045
+    // thick over the whole part, 7 % of its volume in the rendering and 0 voxels in the fit).
+    VoxelizeOptions sopt = on_fine ? fopt : vopt;
+    sopt.lattice_shift = 0.5;
+    const VoxelGrid staggered = voxelize(local, sopt);
+    const double lattice_voxels = static_cast<double>(grid.count() + staggered.count());
     Node3D tree = out.fit.tree;
-    TreeEvaluator3D ev(grid, tree);
+    TreeEvaluator3D ev(grid, staggered, tree);
     // Sub-voxel accuracy first: least squares against points of the mesh's surface puts the
     // coarse search's faces where the surface is (the coarse voxels only knew them to half a
     // voxel), then the pattern search on the fine voxels, then the snaps that cost (almost)
@@ -364,15 +371,16 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
     // ones). The samples see the surface exactly, the voxels only to half a voxel, so the
     // samples win unless the voxels object strongly: up to 1.5 % of the part's voxels in all
     // (rendered IoU 0.947 -> 0.975 on that model). The snaps keep to a twentieth of that.
-    const double snap_slack = std::max(4.0, 5e-4 * static_cast<double>(grid.count()));
+    const double snap_slack = std::max(8.0, 5e-4 * lattice_voxels);
     SurfaceFitOptions3D sf;
     sf.voxel_slack = 30 * snap_slack;
     sf.deadline = deadline;
     const auto samples = surface_samples(local, 30000, options.seed);
     refine_to_surface(ev, samples, sf);
-    if (on_fine) {
+    {
       // No prune here: the search pruned at its k already, and a prune rebuilds the fine
-      // evaluator once per primitive removed (seconds past the budget on big trees).
+      // evaluator once per primitive removed (seconds past the budget on big trees). On the
+      // search's own grid too: the staggered lattice shows what the search could not see.
       LocalOptOptions3D lo;
       lo.max_sweeps = 12;
       lo.initial_step = std::max(1.0, 0.5 * ratio);
@@ -386,8 +394,9 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
     const double h = grid.voxel_size();
     snap_to_planes(ev, axis_planes(local, 0.01 * h, 4 * h * h), h / 3, snap_slack);
     FitStats& s = out.fit.stats;
-    set_mismatch_stats(s, ev.mismatch(), grid.count(), tree.primitive_count(),
-                       s.k * ratio * ratio * ratio);
+    // Both lattices' counts: the IoU is their mean, k is per lattice.
+    set_mismatch_stats(s, ev.mismatch(), grid.count() + staggered.count(), tree.primitive_count(),
+                       2 * s.k * ratio * ratio * ratio);
     s.evaluations = search_evaluations + ev.evaluations();
     out.fit.tree = std::move(tree);
     if (on_fine) out.grid = std::move(fine);
