@@ -158,6 +158,37 @@ TEST(SnapToDesignValues, SquaresUpNearlyAlignedPrimitivesAndEqualisesRadii) {
   EXPECT_LE(ev2.mismatch().total(), before);
 }
 
+// A boss with a bore through it, fitted with the bore 0.3 voxel off the boss's axis: the bore
+// becomes coaxial with the boss; a second hole 3 voxels away stays where it is.
+TEST(SnapToDesignValues, MakesNearlyCoaxialCylindersCoaxial) {
+  const VoxelGrid frame(40, 40, 40, 0, 0, 0, 1.0);
+  const Node3D truth = Node3D::op(
+      NodeKind::Difference,
+      {Node3D::op(NodeKind::Union, {Node3D::leaf(Primitive3D::box(20, 20, 12, 30, 30, 6)),
+                                    Node3D::leaf(Primitive3D::cylinder(20.2, 19.9, 18, 6, 12))}),
+       Node3D::leaf(Primitive3D::cylinder(20.2, 19.9, 18, 3, 30)),
+       Node3D::leaf(Primitive3D::cylinder(11.1, 19.9, 12, 2, 10))});
+  const VoxelGrid target = render(truth, frame);
+  Node3D tree = truth;
+  std::vector<Primitive3D*> ls = leaves(tree);
+  ls[2]->cx += 0.3;  // the bore, off the boss's axis
+  ls[2]->cy -= 0.1;
+  ls[3]->cx = 17.1;  // another hole, 3 voxels from the boss's axis
+  TreeEvaluator3D ev(target, tree);
+  snap_to_design_values(ev, 1e9);
+  EXPECT_NEAR(ev.leaf(2).cx, ev.leaf(1).cx, 1e-12);
+  EXPECT_NEAR(ev.leaf(2).cy, ev.leaf(1).cy, 1e-12);
+  EXPECT_EQ(ev.leaf(2).cz, 18.0);  // kept its place along the axis
+  EXPECT_EQ(ev.leaf(3).cx, 17.1);
+  // Under no slack the snap is kept only if it costs nothing: the mismatch never grows.
+  Node3D again = truth;
+  leaves(again)[2]->cx += 0.45;
+  TreeEvaluator3D ev2(target, again);
+  const std::size_t before = ev2.mismatch().total();
+  snap_to_design_values(ev2, 0);
+  EXPECT_LE(ev2.mismatch().total(), before);
+}
+
 TEST(AxisPlanes, AreTheFacesOfAnAxisAlignedPartWithTheirAreas) {
   const TriangleMesh box = turned_box({0, 0, 0}, {4, 2, 1});
   const std::vector<AxisPlane> planes = axis_planes(box, 1e-6, 0);

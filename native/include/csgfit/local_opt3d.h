@@ -54,9 +54,11 @@ struct SurfaceFitOptions3D {
 std::size_t refine_to_surface(TreeEvaluator3D& evaluator, const std::vector<Vec3>& samples,
                               const SurfaceFitOptions3D& options = {});
 
-/// Snaps to what designers use where it costs at most `voxel_slack` mismatched voxels in all: a primitive within 4 degrees of the grid's axes becomes axis-aligned (for cylinders,
-/// cones and tori only their axis counts), and radii of cylinders and spheres within 2 % of
-/// one another become equal. Returns the number of snaps kept.
+/// Snaps to what designers use where it costs at most `voxel_slack` mismatched voxels in all: a
+/// primitive within 4 degrees of the grid's axes becomes axis-aligned (for cylinders, cones and
+/// tori only their axis counts), radii of cylinders and spheres within 2 % of one another
+/// become equal, and a cylinder, cone or torus whose axis is parallel to an earlier one's and
+/// within half a voxel of it becomes coaxial with it. Returns the number of snaps kept.
 std::size_t snap_to_design_values(TreeEvaluator3D& evaluator, double voxel_slack);
 
 /// A planar face of the input perpendicular to a grid axis: the plane axis = offset, and the

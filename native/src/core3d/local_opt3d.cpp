@@ -383,6 +383,36 @@ std::size_t snap_to_design_values(TreeEvaluator3D& ev, double voxel_slack) {
       if (attempt(i, snapped)) break;
     }
   }
+  // Coaxial: a bore through a boss, a counterbore, a stepped shaft. A cylinder, cone or torus
+  // whose axis is parallel to an earlier one's (within half a degree) and within half a voxel
+  // of it moves onto that axis, keeping its place along it.
+  const double parallel = std::cos(0.5 / kRadToDeg);
+  const double near_axis = 0.5 * ev.target().voxel_size();
+  auto axis_of = [](const Primitive3D& p) {
+    const Mat3 r = p.rotation.matrix();
+    return Vec3{r[0][2], r[1][2], r[2][2]};
+  };
+  for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
+    const Primitive3D& p = ev.leaf(i);
+    if (!is_axially_symmetric(p.kind)) continue;
+    const Vec3 a = axis_of(p);
+    for (std::size_t j = 0; j < i; ++j) {
+      const Primitive3D& q = ev.leaf(j);
+      if (!is_axially_symmetric(q.kind)) continue;
+      const Vec3 b = axis_of(q);
+      const double cos_ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+      if (std::fabs(cos_ab) < parallel) continue;
+      // p's centre projected onto q's axis line.
+      const Vec3 d{p.cx - q.cx, p.cy - q.cy, p.cz - q.cz};
+      const double along = d[0] * b[0] + d[1] * b[1] + d[2] * b[2];
+      const Vec3 on{q.cx + along * b[0], q.cy + along * b[1], q.cz + along * b[2]};
+      const double off = std::hypot(p.cx - on[0], p.cy - on[1], p.cz - on[2]);
+      if (!(off <= near_axis) || off == 0) continue;
+      Primitive3D snapped = p;
+      snapped.cx = on[0], snapped.cy = on[1], snapped.cz = on[2];
+      if (attempt(i, snapped)) break;
+    }
+  }
   return kept;
 }
 
