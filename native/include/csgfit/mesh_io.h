@@ -94,8 +94,8 @@ struct VoxelizeOptions {
   double voxel_size = 0;
   /// Empty voxels added on every side of the bounding box.
   int margin = 1;
-  /// Moves the lattice by this fraction of a voxel along x, y and z (0 <= shift < 1): 0.5 gives
-  /// the staggered sampling of the same part that TreeEvaluator3D can count beside the first.
+  /// Moves the lattice by this fraction of a voxel along x, y and z (0 <= shift < 1): a second,
+  /// staggered sampling of the same part that TreeEvaluator3D can count beside the first.
   double lattice_shift = 0;
   /// Grids with more voxels are refused (InputError).
   std::size_t max_voxels = std::size_t{1} << 27;
