@@ -34,9 +34,9 @@ class TreeEvaluator3D {
   /// on a lattice shifted by a fraction of a voxel along every axis (voxelize's lattice_shift;
   /// the mesh polish uses 0.6). On one lattice a face can sit anywhere between two rows of
   /// centres at no cost, so a sheet of a primitive thinner than a voxel, or a slit between two,
-  /// is invisible to it and yet renders; the staggered centres split the spacing and see it. Every mismatch this
-  /// evaluator reports is the sum over both lattices (about twice one lattice's counts);
-  /// result(), target() and the masks are those of `target`.
+  /// is invisible to it and yet renders; the staggered centres split the spacing and see it.
+  /// Every mismatch this evaluator reports is the sum over both lattices (about twice one
+  /// lattice's counts); result(), target() and the masks are those of `target`.
   TreeEvaluator3D(const VoxelGrid& target, const VoxelGrid& staggered, Node3D& tree);
 
   /// Whether a staggered lattice is counted too.

@@ -384,24 +384,22 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
     sf.deadline = deadline;
     const auto samples = surface_samples(local, 30000, options.seed);
     refine_to_surface(ev, samples, sf);
-    {
-      // No prune here: the search pruned at its k already, and a prune rebuilds the fine
-      // evaluator once per primitive removed (seconds past the budget on big trees). On the
-      // search's own grid too: the staggered lattice shows what the search could not see.
-      LocalOptOptions3D lo;
-      lo.max_sweeps = 12;
-      lo.initial_step = std::max(1.0, 0.5 * ratio);
-      lo.min_step = 0.25;
-      lo.deadline = deadline;
-      optimize_leaves(ev, lo);
-    }
+    // No prune here: the search pruned at its k already, and a prune rebuilds the fine
+    // evaluator once per primitive removed (seconds past the budget on big trees). On the
+    // search's own grid too: the staggered lattice shows what the search could not see.
+    LocalOptOptions3D lo;
+    lo.max_sweeps = 12;
+    lo.initial_step = std::max(1.0, 0.5 * ratio);
+    lo.min_step = 0.25;
+    lo.deadline = deadline;
+    optimize_leaves(ev, lo);
     snap_to_design_values(ev, snap_slack);
     // Last, the faces onto the input's own planes: exact dimensions, and faces that several
     // primitives share become one plane. Within a third of a voxel: the voxels cannot tell.
     const double h = grid.voxel_size();
     snap_to_planes(ev, axis_planes(local, 0.01 * h, 4 * h * h), h / 3, snap_slack);
     FitStats& s = out.fit.stats;
-    // Both lattices' counts: the IoU is their mean, k is per lattice.
+    // Both lattices' counts: the IoU of the two samplings pooled, and k doubled to match.
     set_mismatch_stats(s, ev.mismatch(), grid.count() + staggered.count(), tree.primitive_count(),
                        2 * s.k * ratio * ratio * ratio);
     s.evaluations = search_evaluations + ev.evaluations();
