@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "csgfit/tree.h"
+#include "csgfit/model/tree.h"
 
 namespace csgfit::scad {
 

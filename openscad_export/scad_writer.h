@@ -3,9 +3,9 @@
 
 #include <string>
 
-#include "csgfit/fit.h"
-#include "csgfit/json_io.h"
-#include "csgfit/tree.h"
+#include "csgfit/model/frame.h"
+#include "csgfit/model/tree.h"
+#include "csgfit/search/stats.h"
 
 namespace csgfit {
 

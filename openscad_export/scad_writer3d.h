@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "csgfit/tree3d.h"
+#include "csgfit/model/tree3d.h"
 #include "scad_writer.h"
 
 namespace csgfit {

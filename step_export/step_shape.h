@@ -3,10 +3,10 @@
 
 #include <TopoDS_Shape.hxx>
 
-#include "csgfit/json_io.h"
-#include "csgfit/primitive3d.h"
-#include "csgfit/tree.h"
-#include "csgfit/tree3d.h"
+#include "csgfit/model/frame.h"
+#include "csgfit/model/primitive3d.h"
+#include "csgfit/model/tree.h"
+#include "csgfit/model/tree3d.h"
 
 namespace csgfit {
 

@@ -7,9 +7,9 @@
 
 #include <string>
 
-#include "csgfit/json_io.h"
-#include "csgfit/tree.h"
-#include "csgfit/tree3d.h"
+#include "csgfit/model/frame.h"
+#include "csgfit/model/tree.h"
+#include "csgfit/model/tree3d.h"
 
 namespace csgfit {
 

@@ -6,9 +6,10 @@
 #include <cmath>
 #include <random>
 
-#include "csgfit/decompose3d.h"
-#include "csgfit/features3d.h"
-#include "csgfit/tree3d.h"
+#include "csgfit/seed/decompose3d.h"
+#include "csgfit/features/features3d.h"
+#include "csgfit/model/tree3d.h"
+#include "csgfit/model/quaternion.h"
 
 using namespace csgfit;
 

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "csgfit/decompose.h"
-#include "csgfit/evaluator.h"
+#include "csgfit/seed/decompose2d.h"
+#include "csgfit/eval/evaluator2d.h"
 
 using namespace csgfit;
 

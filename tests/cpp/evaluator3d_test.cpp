@@ -1,6 +1,6 @@
 // The 3D tree, its incremental evaluator and its signed distance against brute-force
 // pointwise evaluation on random trees (as evaluator_test.cpp does in 2D).
-#include "csgfit/evaluator3d.h"
+#include "csgfit/eval/evaluator3d.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <functional>
 #include <random>
 
-#include "csgfit/tree3d.h"
+#include "csgfit/model/tree3d.h"
 
 using namespace csgfit;
 
@@ -282,7 +282,8 @@ TEST(Tree3D, SignedDistanceComposition) {
 // ---------------------------------------------------------------------------------------------
 // Local optimiser and pruning (local_opt3d.h)
 
-#include "csgfit/local_opt3d.h"
+#include "csgfit/refine/local_opt3d.h"
+#include "csgfit/optimise/prune.h"
 
 TEST(LocalOpt3D, RecoversAPerturbedBoxMinusCylinder) {
   VoxelGrid frame(48, 48, 48, 0, 0, 0, 1.0);

@@ -3,8 +3,8 @@
 
 #include <random>
 
-#include "csgfit/evaluator.h"
-#include "csgfit/tree.h"
+#include "csgfit/eval/evaluator2d.h"
+#include "csgfit/model/tree.h"
 
 using namespace csgfit;
 

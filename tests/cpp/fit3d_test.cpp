@@ -4,8 +4,8 @@
 #include <atomic>
 #include <cstdio>
 
-#include "csgfit/fit3d.h"
-#include "csgfit/tree3d.h"
+#include "csgfit/pipeline/fit_voxels.h"
+#include "csgfit/model/tree3d.h"
 
 using namespace csgfit;
 

@@ -5,8 +5,8 @@
 #include <chrono>
 #include <thread>
 
-#include "csgfit/evaluator.h"
-#include "csgfit/fit.h"
+#include "csgfit/eval/evaluator2d.h"
+#include "csgfit/pipeline/fit_bitmap.h"
 
 using namespace csgfit;
 

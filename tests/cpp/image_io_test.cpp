@@ -1,6 +1,6 @@
 // Image input/output: every supported format decodes to the expected bitmap, bad files give a
 // one-line InputError naming the file, limits are checked before decoding, writes are atomic.
-#include "csgfit/image_io.h"
+#include "csgfit/io/image.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,8 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "csgfit/bitmap.h"
+#include "csgfit/model/bitmap.h"
 #include "csgfit/error.h"
+#include "csgfit/io/files.h"
 
 // Private copies of stb for making fixtures and reading the preview back.
 #define STB_IMAGE_STATIC

@@ -5,7 +5,8 @@
 #include <string>
 
 #include "csgfit/error.h"
-#include "csgfit/fit3d.h"
+#include "csgfit/pipeline/fit_voxels.h"
+#include "csgfit/io/json.h"
 
 namespace csgfit {
 namespace {

@@ -1,4 +1,4 @@
-#include "csgfit/json_io.h"
+#include "csgfit/io/json.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,8 @@
 #include <string>
 
 #include "csgfit/error.h"
-#include "csgfit/image_io.h"
+#include "csgfit/io/image.h"
+#include "csgfit/model/frame.h"
 #include "random_trees.h"
 
 namespace csgfit {

@@ -6,10 +6,13 @@
 #include <cmath>
 #include <cstdint>
 
-#include "csgfit/evaluator3d.h"
-#include "csgfit/local_opt3d.h"
-#include "csgfit/mesh_fit.h"
-#include "csgfit/voxel_grid.h"
+#include "csgfit/eval/evaluator3d.h"
+#include "csgfit/refine/local_opt3d.h"
+#include "csgfit/pipeline/fit_mesh.h"
+#include "csgfit/model/voxel_grid.h"
+#include "csgfit/features/mesh_features.h"
+#include "csgfit/optimise/snap3d.h"
+#include "csgfit/refine/surface_fit3d.h"
 
 namespace csgfit {
 namespace {

@@ -1,6 +1,6 @@
 // 3D primitives: volumes of their voxelisations, rasterize against contains() voxel by voxel,
 // signed distances (sign, exactness), Euler angles, bounds, and rasterize timings.
-#include "csgfit/primitive3d.h"
+#include "csgfit/model/primitive3d.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "csgfit/primitive.h"
+#include "csgfit/model/primitive2d.h"
 
 using namespace csgfit;
 

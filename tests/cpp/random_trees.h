@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "csgfit/tree.h"
+#include "csgfit/model/tree.h"
 
 namespace csgfit::testing {
 

@@ -9,7 +9,8 @@
 #include <random>
 #include <string>
 
-#include "csgfit/tree.h"
+#include "csgfit/model/tree.h"
+#include "csgfit/model/frame.h"
 #include "random_trees.h"
 #include "scad_writer.h"
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "csgfit/error.h"
+#include "csgfit/model/frame.h"
 #include "random_trees.h"
 
 namespace csgfit {

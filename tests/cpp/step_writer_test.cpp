@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "csgfit/error.h"
+#include "csgfit/model/frame.h"
 #include "step_shape.h"
 
 namespace csgfit {

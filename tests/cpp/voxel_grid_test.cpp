@@ -1,5 +1,5 @@
 // VoxelGrid: bit layout, spans, padding, whole-grid operations and counts.
-#include "csgfit/voxel_grid.h"
+#include "csgfit/model/voxel_grid.h"
 
 #include <gtest/gtest.h>
 

@@ -12,7 +12,9 @@
 #include <vector>
 
 #include "csgfit/error.h"
-#include "csgfit/mesh_io.h"
+#include "csgfit/model/mesh.h"
+#include "csgfit/io/mesh_read.h"
+#include "csgfit/model/voxelize.h"
 
 namespace csgfit {
 namespace {

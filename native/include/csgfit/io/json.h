@@ -1,0 +1,55 @@
+// The JSON form of a fitted tree (schema: docs/JSON_SCHEMA.md).
+#pragma once
+
+#include <string>
+
+#include "csgfit/model/frame.h"
+#include "csgfit/model/tree.h"
+#include "csgfit/pipeline/fit_bitmap.h"
+#include "csgfit/pipeline/fit_voxels.h"
+
+namespace csgfit {
+
+
+/// Serialises a result (best tree, stats, alternatives) as JSON text, schema version 1.
+std::string to_json(const FitResult& result, const ModelFrame& frame);
+
+/// Parses JSON written by to_json back into a result (tree and canvas; stats as stored).
+/// Throws InputError on malformed input or an unknown schema version.
+/// A bare node (no "schema" envelope) such as the benchmark ground-truth files
+/// (../shared/benchmarks/2d/*.gt.json) are also accepted: tree in pixel units, no canvas.
+FitResult from_json(const std::string& text, ModelFrame* frame = nullptr);
+
+/// Parses one bare tree node ({"op": ..., "children": [...]} or {"type": ..., ...}) whose
+/// coordinates are in units of `pixel_size` model units per pixel (1 = already pixel units, as
+/// in the ground-truth files). Besides the schema's primitives it reads "rect", and triangles
+/// given as "points": [[x, y], [x, y], [x, y]]. Throws InputError naming the bad field and node.
+Node node_from_json(const std::string& text, double pixel_size = 1.0);
+
+/// The tree mirrored top to bottom on a canvas `height` pixels high (y -> height - y), for trees
+/// written in image coordinates (y down). The benchmark files part_*.gt.json are such trees
+/// (measured: render(flip_y(node_from_json(gt), 128), 128, 128) equals the benchmark PNG
+/// pixel for pixel); eye_in_diamond.gt.json is symmetric, so either reading works.
+Node flip_y(const Node& tree, double height);
+
+/// The fit as JSON: schema "csgfit/1" with "dimension": 3 (lengths in the mesh's units):
+/// {"schema", "dimension": 3, "units", "source", "grid": {"nx", "ny", "nz", "origin": [x, y, z],
+/// "voxel_size"}, "tree", "stats"}. Operator nodes as in 2D ({"op", "children"}); a primitive is
+/// {"type", "center": [x, y, z], "rotation": [w, x, y, z] (unit quaternion, local -> model),
+/// "euler_deg": [a, b, c] (OpenSCAD rotate()), then its dimensions: box "size": [x, y, z];
+/// sphere "r"; cylinder "r", "h"; cone "r1" (bottom, local z = -h/2), "r2", "h"; ellipsoid
+/// "radii": [rx, ry, rz]; torus "R", "r"; prism "w", "h", "depth", "apex"}. Throws
+/// InputError for a non-finite value.
+/// `frame` is the rotation of the fitting grid (grid -> mesh coordinates; written as "frame":
+/// [w, x, y, z]); the tree itself is always in mesh coordinates.
+std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
+                      const Quaternion& frame = {});
+
+/// Whether `text` is a JSON document with "dimension": 3 (false for 2D or unparsable text).
+bool is_json3d(const std::string& text);
+/// Reads the tree of a document written by to_json3d (`source` gets its "source"). The
+/// quaternion "rotation" is used (euler_deg only when it is absent); the grid and stats are
+/// not read. Throws InputError naming the bad field and node.
+Node3D from_json3d(const std::string& text, std::string* source = nullptr);
+
+}  // namespace csgfit

@@ -1,0 +1,117 @@
+// 3D primitives: box, sphere, cylinder, cone (frustum), ellipsoid, torus, triangular prism;
+// their exact scan conversion at voxel centres, volumes and signed distances.
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+
+#include "csgfit/model/quaternion.h"
+#include "csgfit/model/voxel_grid.h"
+
+namespace csgfit {
+
+enum class PrimitiveKind3D { Box, Sphere, Cylinder, Cone, Ellipsoid, Torus, TriangularPrism };
+
+/// Canonical lower-case name ("box", "sphere", "cylinder", "cone", "ellipsoid", "torus",
+/// "prism").
+std::string_view to_string(PrimitiveKind3D kind);
+/// Parses a name as written by to_string (also "cube", "frustum", "wedge", "triangular_prism");
+/// throws std::invalid_argument naming the bad name.
+PrimitiveKind3D primitive_kind3d_from_string(std::string_view name);
+
+
+/// Axis-aligned bounds in model coordinates.
+struct Bounds3 {
+  Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+};
+
+/// One primitive in model coordinates (the mesh's own units, z up): a centre, a rotation and
+/// dimensions in its local frame, where the shape is centred on the origin:
+///  - Box:       dims = {size x, size y, size z} (full edge lengths).
+///  - Sphere:    dims = {r, r, r} (kept equal; the rotation is kept at identity).
+///  - Cylinder:  dims = {r, r, height}; axis local z, z in [-h/2, h/2] (dims[1] kept = dims[0]).
+///  - Cone:      dims = {r1, r2, height}: a frustum with radius r1 at z = -h/2 (bottom) and r2
+///               at z = +h/2 (top), axis local z; r1 or r2 may be 0 (a full cone).
+///  - Ellipsoid: dims = {rx, ry, rz}, semi-axes along local x, y, z.
+///  - Torus:     dims = {R, r, 0}: the tube of radius r around the circle of radius R in the
+///               local xy plane (axis local z), r <= R so that OpenSCAD can revolve it.
+///  - TriangularPrism: dims = {w, h, depth}: seed 003's triangular block, the 2D Triangle of
+///               primitive.h (base (-w/2, -h/2)-(w/2, -h/2), apex (apex * w/2, h/2)) in local
+///               xy, extruded over z in [-depth/2, depth/2].
+struct Primitive3D {
+  PrimitiveKind3D kind = PrimitiveKind3D::Box;
+  double cx = 0, cy = 0, cz = 0;
+  Quaternion rotation;
+  Vec3 dims{1, 1, 1};
+  double apex = 0;  ///< TriangularPrism only
+
+  static Primitive3D box(double cx, double cy, double cz, double sx, double sy, double sz,
+                         const Quaternion& rotation = {});
+  static Primitive3D sphere(double cx, double cy, double cz, double r);
+  static Primitive3D cylinder(double cx, double cy, double cz, double r, double height,
+                              const Quaternion& rotation = {});
+  static Primitive3D cone(double cx, double cy, double cz, double r1, double r2, double height,
+                          const Quaternion& rotation = {});
+  static Primitive3D ellipsoid(double cx, double cy, double cz, double rx, double ry, double rz,
+                               const Quaternion& rotation = {});
+  static Primitive3D torus(double cx, double cy, double cz, double major_r, double minor_r,
+                           const Quaternion& rotation = {});
+  static Primitive3D prism(double cx, double cy, double cz, double w, double h, double depth,
+                           double apex = 0, const Quaternion& rotation = {});
+
+  /// Exact volume of the continuous solid.
+  double volume() const;
+  /// Whether the point lies inside (boundary counts as inside), tested pointwise in the local
+  /// frame; rasterize() sets a voxel exactly when this holds at its centre (up to rounding at
+  /// points within ~1e-12 of the surface).
+  bool contains(double x, double y, double z) const;
+  /// Signed Euclidean distance to the surface, negative inside. Exact for every kind except
+  /// the ellipsoid, where it is |q|(|q| - 1)/|q'| with q = local / semi-axes and
+  /// q' = local / semi-axes^2: zero exactly on the surface, the right sign everywhere, exact
+  /// for a sphere and first-order accurate near the surface.
+  double signed_distance(double x, double y, double z) const;
+  /// Outward unit normal: the normalised gradient of signed_distance (central differences, so
+  /// at edges and corners it averages the faces). {0, 0, 0} where the gradient vanishes.
+  Vec3 normal_at(double x, double y, double z) const;
+  /// Model point -> local frame.
+  Vec3 to_local(double x, double y, double z) const;
+  /// Tight axis-aligned bounds of the rotated solid.
+  Bounds3 bounds() const;
+  /// Keeps sizes positive, tied sizes equal, r <= R for tori, the quaternion unit; called after
+  /// every parameter change.
+  void normalize();
+  bool operator==(const Primitive3D& o) const;
+  bool operator!=(const Primitive3D& o) const { return !(*this == o); }
+};
+
+/// Which 3D primitive kinds the matcher and the search may use.
+struct PrimitiveSet3D {
+  unsigned bits = 0;
+  static PrimitiveSet3D all();
+  /// The kinds seed 003 matches by moments: box, sphere, cylinder, cone, ellipsoid, prism.
+  static PrimitiveSet3D matchable();
+  /// Comma-separated names as primitive_kind3d_from_string takes them, or "all"; throws
+  /// std::invalid_argument naming a bad name or an empty list.
+  static PrimitiveSet3D parse(const std::string& list);
+  bool has(PrimitiveKind3D k) const { return (bits >> static_cast<unsigned>(k)) & 1u; }
+  void add(PrimitiveKind3D k) { bits |= 1u << static_cast<unsigned>(k); }
+  bool empty() const { return bits == 0; }
+};
+
+/// Indices into Primitive3D::dims that are free parameters of the kind (a sphere has one, a
+/// cylinder two: {0, 2}, a torus two: {0, 1}); returns how many were written.
+int free_dims(PrimitiveKind3D kind, int out[3]);
+/// Whether turning the primitive about its local z axis leaves it unchanged (cylinder, cone,
+/// torus, sphere).
+bool is_axially_symmetric(PrimitiveKind3D kind);
+
+/// Scan-converts p into `out`: a voxel is set exactly when its centre lies inside p. Clears
+/// `out` first. Works per x-row (j, k) inside p's bounds, from the analytic x-interval(s) of
+/// p on that line (one for convex kinds, up to two for the torus).
+void rasterize(const Primitive3D& p, VoxelGrid& out);
+/// rasterize() without the clearing: sets p's voxels and leaves every other bit as it was
+/// (the incremental evaluator clears only the rows it is about to redraw).
+void rasterize_into(const Primitive3D& p, VoxelGrid& out);
+
+}  // namespace csgfit

@@ -1,0 +1,25 @@
+// Design values for 2D trees: round numbers where they cost (almost) nothing, and boundaries
+// kept off pixel centres so that every renderer agrees with the solver's raster.
+#pragma once
+
+#include <cstddef>
+
+#include "csgfit/eval/evaluator2d.h"
+#include "csgfit/model/primitive2d.h"
+
+namespace csgfit {
+
+/// Rounds parameters to values a designer would type, where that costs (almost) nothing:
+/// ellipses with nearly equal axes become circles (if allowed), angles go to multiples of 15
+/// degrees, else whole degrees, positions and sizes to half pixels. Each change is kept only if
+/// the mismatch grows by no more than what is left of `pixel_budget` (spent as it goes).
+/// Returns the number of snapped parameters.
+std::size_t snap_to_design_values(TreeEvaluator& evaluator, PrimitiveSet allowed,
+                                  double pixel_budget);
+
+/// Moves primitive boundaries off pixel centres by a few thousandths of a pixel without changing
+/// any pixel, so that any renderer (OpenSCAD's polygons, FreeCAD's solids) agrees with the
+/// solver's raster, whose inside test includes the boundary. Returns the number moved.
+std::size_t untie(TreeEvaluator& evaluator);
+
+}  // namespace csgfit

@@ -1,0 +1,33 @@
+// Least-squares refinement of a 3D tree's primitives against points of the input's surface.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <vector>
+
+#include "csgfit/eval/evaluator3d.h"
+
+namespace csgfit {
+
+/// Settings of refine_to_surface.
+struct SurfaceFitOptions3D {
+  int rounds = 3;              ///< sample re-assignments
+  int iterations = 8;          ///< Levenberg-Marquardt steps per primitive and round
+  double inlier = 1.5;         ///< samples further than this (voxels) from every primitive are ignored
+  /// Refined primitives are kept while the voxel mismatch stays within this many voxels of
+  /// what it was before the refinement (one allowance for all of them).
+  double voxel_slack = 0;
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+};
+
+/// Least-squares fit of every leaf to the input's surface samples (points on the mesh, in the
+/// evaluator's grid coordinates), so that accuracy is not limited by the voxel size: each
+/// sample goes to the primitive whose surface is nearest (within `inlier` voxels), and each
+/// primitive's parameters (centre, free dimensions, turns, apex) take Levenberg-Marquardt steps
+/// on the sum of its samples' squared signed distances. A refined primitive replaces the old
+/// one only if the voxel mismatch stays within `voxel_slack` of what it was at the start. Returns the
+/// number of primitives changed.
+std::size_t refine_to_surface(TreeEvaluator3D& evaluator, const std::vector<Vec3>& samples,
+                              const SurfaceFitOptions3D& options = {});
+
+}  // namespace csgfit

@@ -1,0 +1,155 @@
+// Internal: the tree walks Node (2D) and Node3D share. Both are
+// {NodeKind kind; Primitive primitive; std::vector<Node> children}, so one template each.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "csgfit/model/tree.h"
+
+namespace csgfit::tree_walk {
+
+template <typename NodeT>
+std::size_t primitive_count(const NodeT& n) {
+  if (n.is_leaf()) return 1;
+  std::size_t count = 0;
+  for (const NodeT& c : n.children) count += primitive_count(c);
+  return count;
+}
+
+template <typename NodeT>
+std::size_t node_count(const NodeT& n) {
+  std::size_t count = 1;
+  for (const NodeT& c : n.children) count += node_count(c);
+  return count;
+}
+
+template <typename NodeT>
+std::size_t depth(const NodeT& n) {
+  std::size_t d = 0;
+  for (const NodeT& c : n.children) d = std::max(d, depth(c));
+  return d + 1;
+}
+
+template <typename NodeT>
+bool equal(const NodeT& a, const NodeT& b) {
+  if (a.kind != b.kind) return false;
+  if (a.is_leaf()) return a.primitive == b.primitive;
+  return a.children == b.children;
+}
+
+template <typename NodeT>
+void visit(const NodeT& n, const std::function<void(const NodeT&, std::size_t)>& fn,
+           std::size_t& index) {
+  fn(n, index++);
+  for (const NodeT& c : n.children) visit(c, fn, index);
+}
+
+template <typename NodeT>
+NodeT* find(NodeT& n, std::size_t target, std::size_t& index) {
+  if (index++ == target) return &n;
+  for (NodeT& c : n.children)
+    if (NodeT* hit = find(c, target, index)) return hit;
+  return nullptr;
+}
+
+template <typename NodeT, typename PrimT>
+void collect(NodeT& n, std::vector<PrimT*>& out) {
+  if (n.is_leaf()) {
+    out.push_back(&n.primitive);
+    return;
+  }
+  for (auto& c : n.children) collect(c, out);
+}
+
+/// simplify() of tree.h; returns false if `n` is empty afterwards.
+template <typename NodeT>
+bool simplify(NodeT& n) {
+  if (n.is_leaf()) return true;
+  if (n.kind == NodeKind::Difference) {
+    if (n.children.empty() || !simplify(n.children.front())) return false;
+    std::vector<NodeT> kept;
+    kept.push_back(std::move(n.children.front()));
+    for (std::size_t i = 1; i < n.children.size(); ++i) {
+      NodeT& c = n.children[i];
+      if (!simplify(c)) continue;
+      if (c.kind == NodeKind::Union) {  // a - union(b, c) = a - b - c
+        for (NodeT& g : c.children) kept.push_back(std::move(g));
+      } else {
+        kept.push_back(std::move(c));
+      }
+    }
+    if (kept.front().kind == NodeKind::Difference) {  // (a - b) - c = a - b - c
+      NodeT inner = std::move(kept.front());
+      std::vector<NodeT> merged = std::move(inner.children);
+      for (std::size_t i = 1; i < kept.size(); ++i) merged.push_back(std::move(kept[i]));
+      kept = std::move(merged);
+    }
+    n.children = std::move(kept);
+  } else {
+    std::vector<NodeT> kept;
+    for (NodeT& c : n.children) {
+      // An operand that simplified away is gone from the list (as when pruning removes it),
+      // not an empty set: intersection(a, <removed>) is a.
+      if (!simplify(c)) continue;
+      if (c.kind == n.kind) {
+        for (NodeT& g : c.children) kept.push_back(std::move(g));
+      } else {
+        kept.push_back(std::move(c));
+      }
+    }
+    n.children = std::move(kept);
+  }
+  if (n.children.empty()) return false;
+  if (n.children.size() == 1) {
+    NodeT only = std::move(n.children.front());
+    n = std::move(only);
+  }
+  return true;
+}
+
+template <typename NodeT>
+void structure(const NodeT& n, std::string& out) {
+  if (n.is_leaf()) {
+    out += to_string(n.primitive.kind);
+    return;
+  }
+  out += to_string(n.kind);
+  out += '(';
+  for (std::size_t i = 0; i < n.children.size(); ++i) {
+    if (i) out += ", ";
+    structure(n.children[i], out);
+  }
+  out += ')';
+}
+
+/// Rasterises a tree into `out`, which sets the grid's size and placement; works for Bitmap
+/// and VoxelGrid alike (the reference evaluator: simple, not fast).
+template <typename NodeT, typename GridT>
+void render_into(const NodeT& n, GridT& out) {
+  if (n.is_leaf()) {
+    rasterize(n.primitive, out);
+    return;
+  }
+  if (n.children.empty()) {
+    out.clear();
+    return;
+  }
+  GridT child = out;
+  render_into(n.children.front(), out);
+  for (std::size_t i = 1; i < n.children.size(); ++i) {
+    render_into(n.children[i], child);
+    switch (n.kind) {
+      case NodeKind::Union:
+      case NodeKind::Primitive: out |= child; break;
+      case NodeKind::Difference: out.subtract(child); break;
+      case NodeKind::Intersection: out &= child; break;
+    }
+  }
+}
+
+}  // namespace csgfit::tree_walk

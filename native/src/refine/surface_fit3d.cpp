@@ -1,0 +1,197 @@
+#include "csgfit/refine/surface_fit3d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "refine/moves3d.h"
+
+namespace csgfit {
+
+using moves3d::move;
+using moves3d::Param;
+using moves3d::params_of;
+
+namespace {
+
+// Solves the n x n system a x = b in place by Gaussian elimination with partial pivoting;
+// false when it is singular.
+bool solve(std::vector<double>& a, std::vector<double>& b, int n) {
+  for (int c = 0; c < n; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < n; ++r)
+      if (std::fabs(a[r * n + c]) > std::fabs(a[piv * n + c])) piv = r;
+    if (!(std::fabs(a[piv * n + c]) > 1e-300)) return false;
+    if (piv != c) {
+      for (int k = 0; k < n; ++k) std::swap(a[c * n + k], a[piv * n + k]);
+      std::swap(b[c], b[piv]);
+    }
+    for (int r = c + 1; r < n; ++r) {
+      const double f = a[r * n + c] / a[c * n + c];
+      for (int k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
+      b[r] -= f * b[c];
+    }
+  }
+  for (int c = n - 1; c >= 0; --c) {
+    double v = b[c];
+    for (int k = c + 1; k < n; ++k) v -= a[c * n + k] * b[k];
+    b[c] = v / a[c * n + c];
+  }
+  return true;
+}
+
+double sum_squares(const Primitive3D& p, const std::vector<const Vec3*>& pts) {
+  double s = 0;
+  for (const Vec3* q : pts) {
+    const double d = p.signed_distance((*q)[0], (*q)[1], (*q)[2]);
+    s += d * d;
+  }
+  return s;
+}
+
+// Levenberg-Marquardt on one primitive's parameters against its samples.
+Primitive3D fit_to_points(const Primitive3D& start, const std::vector<const Vec3*>& pts, double voxel,
+                          int iterations) {
+  LocalOptOptions3D all;
+  Param params[10];
+  const int np = params_of(start.kind, all, params);
+  const std::size_t m = pts.size();
+  Primitive3D p = start;
+  double cost = sum_squares(p, pts);
+  double lambda = 1e-3;
+  const double eps = 0.01 * voxel;
+  std::vector<double> r(m), jac(m * static_cast<std::size_t>(np));
+  for (int it = 0; it < iterations && cost > 0; ++it) {
+    for (std::size_t i = 0; i < m; ++i) r[i] = p.signed_distance((*pts[i])[0], (*pts[i])[1], (*pts[i])[2]);
+    for (int j = 0; j < np; ++j) {
+      Primitive3D q = p;
+      move(q, params[j], eps, voxel);
+      q.normalize();
+      for (std::size_t i = 0; i < m; ++i)
+        jac[i * np + j] = (q.signed_distance((*pts[i])[0], (*pts[i])[1], (*pts[i])[2]) - r[i]) / eps;
+    }
+    std::vector<double> jtj(static_cast<std::size_t>(np * np), 0.0), jtr(static_cast<std::size_t>(np), 0.0);
+    for (std::size_t i = 0; i < m; ++i)
+      for (int a = 0; a < np; ++a) {
+        const double ja = jac[i * np + a];
+        if (ja == 0) continue;
+        jtr[a] -= ja * r[i];
+        for (int b = 0; b < np; ++b) jtj[a * np + b] += ja * jac[i * np + b];
+      }
+    bool stepped = false;
+    for (int tries = 0; tries < 6 && !stepped; ++tries) {
+      std::vector<double> a = jtj, b = jtr;
+      for (int d = 0; d < np; ++d) a[d * np + d] += lambda * std::max(jtj[d * np + d], 1e-12);
+      if (!solve(a, b, np)) {
+        lambda *= 10;
+        continue;
+      }
+      Primitive3D q = p;
+      // Steps of at most two voxels per parameter: the linearisation holds no further.
+      for (int j = 0; j < np; ++j) move(q, params[j], std::clamp(b[j], -2 * voxel, 2 * voxel), voxel);
+      q.normalize();
+      const double c = sum_squares(q, pts);
+      if (c < cost) {
+        p = q;
+        stepped = cost - c > 1e-9 * cost;
+        cost = c;
+        lambda = std::max(lambda / 3, 1e-9);
+        if (!stepped) return p;
+      } else {
+        lambda *= 4;
+      }
+    }
+    if (!stepped) break;
+  }
+  return p;
+}
+
+}  // namespace
+
+std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samples,
+                              const SurfaceFitOptions3D& options) {
+  const double voxel = ev.target().voxel_size();
+  const std::size_t n = ev.leaf_count();
+  std::size_t changed = 0;
+  if (n == 0 || samples.empty()) return 0;
+  // The slack is one allowance for the whole refinement, not per primitive: spent a little at
+  // a time by a hundred primitives it would add up to a visible loss.
+  // It is measured from the best count seen so far: a search tree that a second lattice shows
+  // to be far off (model 140: 804 voxels on the search's lattice, 33 617 on the staggered one)
+  // must not leave the refinement a ceiling so high that it may trade back everything it gains.
+  double ceiling = static_cast<double>(ev.mismatch().total()) + options.voxel_slack;
+  // The judge of a refined primitive is the whole tree's surface: the squared signed distance
+  // of the tree at every sample, capped at the inlier distance so that a feature the tree
+  // lacks does not dominate. A primitive's own samples can pull it where it no longer makes
+  // the tree's surface (a box hidden inside another takes samples of the face above it), so a
+  // refinement that lowers its own residual is kept only if it lowers the tree's, or the
+  // voxel mismatch.
+  // Clamping commutes with min, max and negation, so the capped tree distance can change only
+  // at samples within the cap of the changed primitive's old or new surface: only those are
+  // re-evaluated.
+  const double cap = options.inlier * voxel;
+  auto capped = [&](const Vec3& s) {
+    const double d = std::min(std::fabs(ev.signed_distance(s[0], s[1], s[2])), cap);
+    return d * d;
+  };
+  std::vector<double> contribution(samples.size());
+  for (std::size_t k = 0; k < samples.size(); ++k) contribution[k] = capped(samples[k]);
+  std::vector<std::size_t> near;
+  std::vector<double> trial;
+  for (int round = 0; round < options.rounds; ++round) {
+    std::vector<std::vector<const Vec3*>> assigned(n);
+    for (const Vec3& s : samples) {
+      std::size_t best = n;
+      double best_d = cap;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double d = std::fabs(ev.leaf(i).signed_distance(s[0], s[1], s[2]));
+        if (d < best_d) {
+          best_d = d;
+          best = i;
+        }
+      }
+      if (best < n) assigned[best].push_back(&s);
+    }
+    std::size_t round_changes = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (std::chrono::steady_clock::now() >= options.deadline) return changed;
+      Param params[10];
+      const int np = params_of(ev.leaf(i).kind, LocalOptOptions3D{}, params);
+      if (assigned[i].size() < static_cast<std::size_t>(3 * np)) continue;
+      const Primitive3D refined = fit_to_points(ev.leaf(i), assigned[i], voxel, options.iterations);
+      if (refined == ev.leaf(i)) continue;
+      const Mismatch m = ev.try_leaf(i, refined);
+      if (static_cast<double>(m.total()) > ceiling) continue;
+      const Primitive3D old = ev.leaf(i);
+      near.clear();
+      for (std::size_t k = 0; k < samples.size(); ++k) {
+        const Vec3& s = samples[k];
+        if (std::fabs(old.signed_distance(s[0], s[1], s[2])) < cap ||
+            std::fabs(refined.signed_distance(s[0], s[1], s[2])) < cap)
+          near.push_back(k);
+      }
+      ev.leaf(i) = refined;
+      trial.resize(near.size());
+      double delta = 0;
+      for (std::size_t j = 0; j < near.size(); ++j) {
+        trial[j] = capped(samples[near[j]]);
+        delta += trial[j] - contribution[near[j]];
+      }
+      // The capped samples cannot see a correction of more than the cap (a search tree far
+      // off on the fine grid); the voxels can: either judge may approve.
+      if (!(delta < 0) && m.total() >= ev.mismatch().total()) {
+        ev.leaf(i) = old;
+        continue;
+      }
+      for (std::size_t j = 0; j < near.size(); ++j) contribution[near[j]] = trial[j];
+      ev.update_leaf(i);
+      ceiling = std::min(ceiling, static_cast<double>(ev.mismatch().total()) + options.voxel_slack);
+      ++round_changes;
+    }
+    changed += round_changes;
+    if (round_changes == 0) break;
+  }
+  return changed;
+}
+
+}  // namespace csgfit

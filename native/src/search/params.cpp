@@ -1,0 +1,40 @@
+#include "csgfit/search/params.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace csgfit {
+
+SearchParams SearchParams::paper() {
+  SearchParams p;
+  p.population = 500;
+  p.max_trees = 5000;
+  p.max_stale = 500;
+  p.refocus_interval = 50;
+  p.initial_size_mean = 10;
+  p.initial_size_sd = 2;
+  p.added_size_mean = 3;
+  p.added_size_sd = 1.5;
+  p.local_iterations = 80;
+  p.seed_with_decomposition = false;
+  return p;
+}
+
+SearchParams SearchParams::for_quality(const std::string& name) {
+  if (name == "paper") return paper();
+  SearchParams p;
+  if (name == "default") return p;
+  if (name == "fast") {
+    p.population = 8;
+    p.max_stale = 1500;
+    return p;
+  }
+  if (name == "best") {
+    p.population = 48;
+    p.max_stale = 20000;
+    return p;
+  }
+  throw std::invalid_argument("unknown quality '" + name + "' (expected fast, default, best or paper)");
+}
+
+}  // namespace csgfit
