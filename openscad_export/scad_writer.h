@@ -4,7 +4,7 @@
 #include <string>
 
 #include "csgfit/model/frame.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 #include "csgfit/search/stats.h"
 
 namespace csgfit {

@@ -5,7 +5,7 @@
 
 #include "csgfit/model/frame.h"
 #include "csgfit/model/primitive3d.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 #include "csgfit/model/tree3d.h"
 
 namespace csgfit {

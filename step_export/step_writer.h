@@ -8,7 +8,7 @@
 #include <string>
 
 #include "csgfit/model/frame.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 #include "csgfit/model/tree3d.h"
 
 namespace csgfit {

@@ -33,7 +33,7 @@
 #include "csgfit/model/mesh.h"
 #include "csgfit/model/voxelize.h"
 #include "csgfit/model/primitive2d.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 #include "scad_writer.h"
 #include "scad_writer3d.h"
 

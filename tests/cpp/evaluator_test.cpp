@@ -4,7 +4,7 @@
 #include <random>
 
 #include "csgfit/eval/evaluator2d.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 
 using namespace csgfit;
 

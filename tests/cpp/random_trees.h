@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 
 namespace csgfit::testing {
 

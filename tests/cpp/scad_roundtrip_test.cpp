@@ -9,7 +9,7 @@
 #include <random>
 #include <string>
 
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 #include "csgfit/model/frame.h"
 #include "random_trees.h"
 #include "scad_writer.h"

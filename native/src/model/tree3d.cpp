@@ -1,55 +1,12 @@
 #include "csgfit/model/tree3d.h"
 
-#include "model/tree_walk.h"
-
-#include <algorithm>
 #include <limits>
+
+#include "model/tree_impl.h"
 
 namespace csgfit {
 
-Node3D Node3D::leaf(const Primitive3D& p) {
-  Node3D n;
-  n.kind = NodeKind::Primitive;
-  n.primitive = p;
-  return n;
-}
-
-Node3D Node3D::op(NodeKind kind, std::vector<Node3D> children) {
-  Node3D n;
-  n.kind = kind;
-  n.children = std::move(children);
-  return n;
-}
-
-std::size_t Node3D::primitive_count() const { return tree_walk::primitive_count(*this); }
-std::size_t Node3D::node_count() const { return tree_walk::node_count(*this); }
-std::size_t Node3D::depth() const { return tree_walk::depth(*this); }
-bool Node3D::operator==(const Node3D& o) const { return tree_walk::equal(*this, o); }
-
-void for_each_node(const Node3D& root,
-                   const std::function<void(const Node3D&, std::size_t)>& fn) {
-  std::size_t index = 0;
-  tree_walk::visit(root, fn, index);
-}
-
-Node3D* node_at(Node3D& root, std::size_t preorder_index) {
-  std::size_t index = 0;
-  return tree_walk::find(root, preorder_index, index);
-}
-
-std::vector<Primitive3D*> leaves(Node3D& root) {
-  std::vector<Primitive3D*> out;
-  tree_walk::collect(root, out);
-  return out;
-}
-
-std::vector<const Primitive3D*> leaves(const Node3D& root) {
-  std::vector<const Primitive3D*> out;
-  tree_walk::collect(root, out);
-  return out;
-}
-
-bool simplify(Node3D& root) { return tree_walk::simplify(root); }
+INSTANTIATE_CSG_TREE(Primitive3D);
 
 VoxelGrid render(const Node3D& root, const VoxelGrid& frame) {
   VoxelGrid out(frame.nx(), frame.ny(), frame.nz(), frame.origin_x(), frame.origin_y(),
@@ -95,12 +52,6 @@ void rotate_tree(Node3D& tree, const Quaternion& q) {
     p->rotation = q * p->rotation;
     p->normalize();
   }
-}
-
-std::string structure_string(const Node3D& root) {
-  std::string s;
-  tree_walk::structure(root, s);
-  return s;
 }
 
 }  // namespace csgfit

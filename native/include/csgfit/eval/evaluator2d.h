@@ -6,7 +6,7 @@
 
 #include "csgfit/eval/mismatch.h"
 #include "csgfit/model/bitmap.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 
 namespace csgfit {
 

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "csgfit/model/frame.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 #include "csgfit/pipeline/fit_bitmap.h"
 #include "csgfit/pipeline/fit_voxels.h"
 

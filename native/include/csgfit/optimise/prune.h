@@ -4,7 +4,7 @@
 #include <cstddef>
 
 #include "csgfit/model/bitmap.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 #include "csgfit/model/tree3d.h"
 #include "csgfit/model/voxel_grid.h"
 

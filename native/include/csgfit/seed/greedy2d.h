@@ -3,7 +3,7 @@
 
 #include "csgfit/model/bitmap.h"
 #include "csgfit/model/primitive2d.h"
-#include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
 
 namespace csgfit {
 

@@ -1,5 +1,5 @@
-// Internal: the tree walks Node (2D) and Node3D share. Both are
-// {NodeKind kind; Primitive primitive; std::vector<Node> children}, so one template each.
+// Internal to model/: the definitions of tree.h's templates, included by tree2d.cpp and
+// tree3d.cpp, which instantiate them for their primitive type (INSTANTIATE_CSG_TREE below).
 #pragma once
 
 #include <algorithm>
@@ -11,7 +11,9 @@
 
 #include "csgfit/model/tree.h"
 
-namespace csgfit::tree_walk {
+namespace csgfit {
+
+namespace tree_walk {
 
 template <typename NodeT>
 std::size_t primitive_count(const NodeT& n) {
@@ -152,4 +154,65 @@ void render_into(const NodeT& n, GridT& out) {
   }
 }
 
-}  // namespace csgfit::tree_walk
+}  // namespace tree_walk
+
+template <typename P>
+std::size_t CsgNode<P>::primitive_count() const { return tree_walk::primitive_count(*this); }
+template <typename P>
+std::size_t CsgNode<P>::node_count() const { return tree_walk::node_count(*this); }
+template <typename P>
+std::size_t CsgNode<P>::depth() const { return tree_walk::depth(*this); }
+template <typename P>
+bool CsgNode<P>::operator==(const CsgNode& o) const { return tree_walk::equal(*this, o); }
+
+template <typename P>
+void for_each_node(
+    const CsgNode<P>& root,
+    const typename detail::Identity<std::function<void(const CsgNode<P>&, std::size_t)>>::type& fn) {
+  std::size_t index = 0;
+  tree_walk::visit(root, fn, index);
+}
+
+template <typename P>
+CsgNode<P>* node_at(CsgNode<P>& root, std::size_t preorder_index) {
+  std::size_t index = 0;
+  return tree_walk::find(root, preorder_index, index);
+}
+
+template <typename P>
+std::vector<P*> leaves(CsgNode<P>& root) {
+  std::vector<P*> out;
+  tree_walk::collect(root, out);
+  return out;
+}
+
+template <typename P>
+std::vector<const P*> leaves(const CsgNode<P>& root) {
+  std::vector<const P*> out;
+  tree_walk::collect(root, out);
+  return out;
+}
+
+template <typename P>
+bool simplify(CsgNode<P>& root) { return tree_walk::simplify(root); }
+
+template <typename P>
+std::string structure_string(const CsgNode<P>& root) {
+  std::string s;
+  tree_walk::structure(root, s);
+  return s;
+}
+
+}  // namespace csgfit
+
+// The explicit instantiations of everything above for one primitive type.
+#define INSTANTIATE_CSG_TREE(P)                                                              \
+  template struct CsgNode<P>;                                                                \
+  template void for_each_node<P>(                                                            \
+      const CsgNode<P>&,                                                                     \
+      const detail::Identity<std::function<void(const CsgNode<P>&, std::size_t)>>::type&);   \
+  template CsgNode<P>* node_at<P>(CsgNode<P>&, std::size_t);                                 \
+  template std::vector<P*> leaves<P>(CsgNode<P>&);                                           \
+  template std::vector<const P*> leaves<P>(const CsgNode<P>&);                               \
+  template bool simplify<P>(CsgNode<P>&);                                                    \
+  template std::string structure_string<P>(const CsgNode<P>&)
