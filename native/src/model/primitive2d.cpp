@@ -289,6 +289,10 @@ void row_range(const Primitive& p, int height, int& row_begin, int& row_end) {
 
 void rasterize(const Primitive& p, Bitmap& out) {
   out.clear();
+  rasterize_into(p, out);
+}
+
+void rasterize_into(const Primitive& p, Bitmap& out) {
   int r0, r1;
   row_range(p, out.height(), r0, r1);
   const double width = static_cast<double>(out.width());

@@ -68,6 +68,9 @@ struct Primitive {
 /// Scan-converts p into `out` (which must already have the canvas size): a pixel is set exactly
 /// when its centre lies inside p. Clears `out` first.
 void rasterize(const Primitive& p, Bitmap& out);
+/// rasterize() without the clearing: sets p's pixels and leaves every other bit as it was (the
+/// incremental evaluator clears only the rows it is about to redraw).
+void rasterize_into(const Primitive& p, Bitmap& out);
 
 /// The rows [row_begin, row_end) that may hold pixels of p on a canvas of the given height.
 void row_range(const Primitive& p, int height, int& row_begin, int& row_end);
