@@ -2,6 +2,7 @@
 // behind one interface, so that every benchmark of a case sees the same tree and the same moves.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

@@ -80,6 +80,7 @@ bool ready(benchmark::State& state, const Case<D>& c) {
   return true;
 }
 
+/// A move the local optimiser considers: try_leaf scores it and changes nothing.
 template <class D>
 void incremental_try(benchmark::State& state) {
   const Case<D>& c = cached_case<D>(state);
@@ -94,6 +95,7 @@ void incremental_try(benchmark::State& state) {
   }
 }
 
+/// A move the local optimiser keeps: the leaf changes and update_leaf recombines its path.
 template <class D>
 void incremental_update(benchmark::State& state) {
   const Case<D>& c = cached_case<D>(state);

@@ -56,7 +56,8 @@ std::string check(const Model& m, const VoxelGrid& g) {
   return {};
 }
 
-/// Real time: the voxeliser hands the winding-number queries to a second thread.
+/// One voxelisation at a given resolution, timed as wall time: the voxeliser hands the
+/// winding-number queries to a second thread.
 void Voxelize(benchmark::State& state, const std::string& name) {
   const Model& m = load(name);
   if (!m.error.empty()) {
