@@ -10,8 +10,8 @@
 #include <utility>
 
 #include "bench_cases.h"
-#include "csgfit/refine/local_opt2d.h"
-#include "csgfit/refine/local_opt3d.h"
+#include "csgfit/refine/local_opt.h"
+#include "csgfit/refine/local_opt.h"
 
 namespace {
 
@@ -19,7 +19,7 @@ using namespace csgfit;
 using namespace csgfit::bench;
 
 LocalOptOptions default_options(Flat) { return LocalOptOptions{}; }
-LocalOptOptions3D default_options(Solid) { return LocalOptOptions3D{}; }
+LocalOptOptions default_options(Solid) { return LocalOptOptions{}; }
 
 /// A case's tree with every leaf moved twice as one step of the optimiser would (fixed seed),
 /// the target being the unmoved tree's raster.

@@ -282,7 +282,7 @@ TEST(Tree3D, SignedDistanceComposition) {
 // ---------------------------------------------------------------------------------------------
 // Local optimiser and pruning (local_opt3d.h)
 
-#include "csgfit/refine/local_opt3d.h"
+#include "csgfit/refine/local_opt.h"
 #include "csgfit/optimise/prune.h"
 
 TEST(LocalOpt3D, RecoversAPerturbedBoxMinusCylinder) {
@@ -305,7 +305,7 @@ TEST(LocalOpt3D, RecoversAPerturbedBoxMinusCylinder) {
   Node3D tree = Node3D::op(NodeKind::Difference, {Node3D::leaf(b2), Node3D::leaf(c2)});
   TreeEvaluator3D ev(target, tree);
   const std::size_t before = ev.mismatch().total();
-  const std::size_t moves = optimize_leaves(ev, LocalOptOptions3D{});
+  const std::size_t moves = optimize_leaves(ev, LocalOptOptions{});
   const std::size_t after = ev.mismatch().total();
   std::printf("local opt 3D: mismatch %zu -> %zu voxels of %zu (%zu moves, %zu evaluations)\n",
               before, after, target.count(), moves, ev.evaluations());

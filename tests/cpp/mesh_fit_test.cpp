@@ -7,7 +7,7 @@
 #include <cstdint>
 
 #include "csgfit/eval/evaluator3d.h"
-#include "csgfit/refine/local_opt3d.h"
+#include "csgfit/refine/local_opt.h"
 #include "csgfit/pipeline/fit_mesh.h"
 #include "csgfit/model/voxel_grid.h"
 #include "csgfit/features/mesh_features.h"

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "csgfit/refine/local_opt2d.h"
+#include "csgfit/refine/local_opt.h"
 
 namespace csgfit {
 
@@ -43,7 +43,7 @@ std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, doubl
     const double before = static_cast<double>(ev.mismatch().total());
     ev.leaf(leaf) = trial;
     ev.update_leaf(leaf);
-    refit.move_angles = !angle_fixed;
+    refit.move_orientation = !angle_fixed;
     refit.move_sizes = !size_fixed;
     if (angle_fixed || size_fixed) optimize_leaves(ev, refit, {leaf});
     const double after = static_cast<double>(ev.mismatch().total());

@@ -8,7 +8,7 @@
 
 namespace csgfit {
 
-using moves3d::kRadToDeg;
+constexpr double kRadToDeg = Moves3D::kRadToDeg;
 
 namespace {
 

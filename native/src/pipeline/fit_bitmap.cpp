@@ -14,7 +14,7 @@
 #include "csgfit/features/features2d.h"
 #include "csgfit/optimise/prune.h"
 #include "csgfit/optimise/snap2d.h"
-#include "csgfit/refine/local_opt2d.h"
+#include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose2d.h"
 #include "csgfit/seed/greedy2d.h"
 #include "model/random.h"

@@ -13,7 +13,7 @@
 #include "csgfit/features/mesh_features.h"
 #include "csgfit/model/voxelize.h"
 #include "csgfit/optimise/snap3d.h"
-#include "csgfit/refine/local_opt3d.h"
+#include "csgfit/refine/local_opt.h"
 #include "csgfit/refine/surface_fit3d.h"
 
 namespace csgfit {
@@ -151,7 +151,7 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
     // No prune here: the search pruned at its k already, and a prune rebuilds the fine
     // evaluator once per primitive removed (seconds past the budget on big trees). On the
     // search's own grid too: the staggered lattice shows what the search could not see.
-    LocalOptOptions3D lo;
+    LocalOptOptions lo;
     lo.max_sweeps = 12;
     lo.initial_step = std::max(1.0, 0.5 * ratio);
     lo.min_step = 0.25;

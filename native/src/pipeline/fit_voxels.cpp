@@ -13,7 +13,7 @@
 #include "csgfit/eval/evaluator3d.h"
 #include "csgfit/features/features3d.h"
 #include "csgfit/optimise/prune.h"
-#include "csgfit/refine/local_opt3d.h"
+#include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose3d.h"
 #include "model/random.h"
 
@@ -91,7 +91,7 @@ struct Problem {
   double k = 100;
   std::vector<PrimitiveKind3D> kinds;
   PrimitiveSet3D primitives;
-  LocalOptOptions3D new_leaf_opt, all_leaf_opt;
+  LocalOptOptions new_leaf_opt, all_leaf_opt;
   // Round primitives matched to the whole target: what INT intersects a tree with to trim its
   // outline (a cube intersected with a sphere, a plate with a cylinder).
   std::vector<Primitive3D> hulls;
@@ -322,7 +322,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
     dopt.time_limit = 0.3 * options.time_limit;
     dopt.cancel = cancel;
     Node3D seed_tree = decompose3d(target, dopt);
-    LocalOptOptions3D polish;
+    LocalOptOptions polish;
     polish.max_sweeps = 20;
     polish.initial_step = 1.0;
     polish.min_step = 0.25;
@@ -410,7 +410,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
 
   // Final polish of the winner at sub-voxel steps.
   {
-    LocalOptOptions3D polish;
+    LocalOptOptions polish;
     polish.max_sweeps = 20;
     polish.initial_step = 0.5;
     polish.min_step = 1.0 / 16;

@@ -2,82 +2,102 @@
 // move, and how one step moves each.
 #pragma once
 
-#include "csgfit/refine/local_opt3d.h"
+#include <algorithm>
+#include <cmath>
 
-namespace csgfit::moves3d {
+#include "csgfit/model/primitive3d.h"
+#include "csgfit/refine/local_opt.h"
 
-inline constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+namespace csgfit {
 
-enum class Param { X, Y, Z, Dim0, Dim1, Dim2, TurnX, TurnY, TurnZ, Apex };
+struct Moves3D {
+  enum class Param { X, Y, Z, Dim0, Dim1, Dim2, TurnX, TurnY, TurnZ, Apex };
+  static constexpr int kMaxParams = 10;
+  static constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-// The parameters worth moving for a kind.
-inline int params_of(PrimitiveKind3D kind, const LocalOptOptions3D& o, Param out[10]) {
-  int n = 0;
-  out[n++] = Param::X;
-  out[n++] = Param::Y;
-  out[n++] = Param::Z;
-  if (o.move_sizes) {
-    int dims[3];
-    const int nd = free_dims(kind, dims);
-    for (int i = 0; i < nd; ++i) out[n++] = static_cast<Param>(static_cast<int>(Param::Dim0) + dims[i]);
-  }
-  if (o.move_rotation && kind != PrimitiveKind3D::Sphere) {
-    out[n++] = Param::TurnX;
-    out[n++] = Param::TurnY;
-    // A turn about its own axis leaves a cylinder, cone or torus as it is.
-    if (!is_axially_symmetric(kind)) out[n++] = Param::TurnZ;
-    if (kind == PrimitiveKind3D::TriangularPrism) out[n++] = Param::Apex;
-  }
-  return n;
-}
+  /// Steps are in model units; one voxel is this long.
+  double unit = 1.0;
 
-// How far the primitive's furthest point lies from its centre.
-inline double reach(const Primitive3D& p) {
-  const Vec3& d = p.dims;
-  switch (p.kind) {
-    case PrimitiveKind3D::Box:
-    case PrimitiveKind3D::TriangularPrism:
-      return 0.5 * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    case PrimitiveKind3D::Torus: return d[0] + d[1];
-    case PrimitiveKind3D::Cylinder:
-    case PrimitiveKind3D::Cone: return std::hypot(std::max(d[0], d[1]), 0.5 * d[2]);
-    default: return std::max({d[0], d[1], d[2]});
-  }
-}
-
-inline void move(Primitive3D& p, Param param, double step, double voxel) {
-  switch (param) {
-    case Param::X: p.cx += step; break;
-    case Param::Y: p.cy += step; break;
-    case Param::Z: p.cz += step; break;
-    case Param::Dim0:
-    case Param::Dim1:
-    case Param::Dim2: {
-      const int i = static_cast<int>(param) - static_cast<int>(Param::Dim0);
-      // Radii move by half the step so that the surface moves by about `step` either way,
-      // as full box sizes do on their two opposite faces.
-      const bool radius = !(p.kind == PrimitiveKind3D::Box ||
-                            p.kind == PrimitiveKind3D::TriangularPrism ||
-                            ((p.kind == PrimitiveKind3D::Cylinder ||
-                              p.kind == PrimitiveKind3D::Cone) && i == 2));
-      p.dims[i] += radius ? step / 2 : step;
-      break;
+  // The parameters worth moving for a kind.
+  static int params_of(PrimitiveKind3D kind, const LocalOptOptions& o, Param out[kMaxParams]) {
+    int n = 0;
+    out[n++] = Param::X;
+    out[n++] = Param::Y;
+    out[n++] = Param::Z;
+    if (o.move_sizes) {
+      int dims[3];
+      const int nd = free_dims(kind, dims);
+      for (int i = 0; i < nd; ++i)
+        out[n++] = static_cast<Param>(static_cast<int>(Param::Dim0) + dims[i]);
     }
-    case Param::TurnX:
-    case Param::TurnY:
-    case Param::TurnZ: {
-      // Turn about the local axis by the angle that moves the furthest point by about `step`,
-      // at most 15 degrees.
-      const double deg = std::clamp(step / std::max(reach(p), voxel) * kRadToDeg, -15.0, 15.0);
-      const Quaternion turn =
-          Quaternion::from_axis_angle(param == Param::TurnX, param == Param::TurnY,
-                                      param == Param::TurnZ, deg);
-      p.rotation = p.rotation * turn;
-      p.rotation.normalize();
-      break;
+    if (o.move_orientation && kind != PrimitiveKind3D::Sphere) {
+      out[n++] = Param::TurnX;
+      out[n++] = Param::TurnY;
+      // A turn about its own axis leaves a cylinder, cone or torus as it is.
+      if (!is_axially_symmetric(kind)) out[n++] = Param::TurnZ;
+      if (kind == PrimitiveKind3D::TriangularPrism) out[n++] = Param::Apex;
     }
-    case Param::Apex: p.apex += step / std::max(0.5 * p.dims[0], voxel); break;
+    return n;
   }
-}
 
-}  // namespace csgfit::moves3d
+  // How far the primitive's furthest point lies from its centre.
+  static double reach(const Primitive3D& p) {
+    const Vec3& d = p.dims;
+    switch (p.kind) {
+      case PrimitiveKind3D::Box:
+      case PrimitiveKind3D::TriangularPrism:
+        return 0.5 * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      case PrimitiveKind3D::Torus:
+        return d[0] + d[1];
+      case PrimitiveKind3D::Cylinder:
+      case PrimitiveKind3D::Cone:
+        return std::hypot(std::max(d[0], d[1]), 0.5 * d[2]);
+      default:
+        return std::max({d[0], d[1], d[2]});
+    }
+  }
+
+  void move(Primitive3D& p, Param param, double step) const {
+    const double voxel = unit;
+    switch (param) {
+      case Param::X:
+        p.cx += step;
+        break;
+      case Param::Y:
+        p.cy += step;
+        break;
+      case Param::Z:
+        p.cz += step;
+        break;
+      case Param::Dim0:
+      case Param::Dim1:
+      case Param::Dim2: {
+        const int i = static_cast<int>(param) - static_cast<int>(Param::Dim0);
+        // Radii move by half the step so that the surface moves by about `step` either way,
+        // as full box sizes do on their two opposite faces.
+        const bool radius =
+            !(p.kind == PrimitiveKind3D::Box || p.kind == PrimitiveKind3D::TriangularPrism ||
+              ((p.kind == PrimitiveKind3D::Cylinder || p.kind == PrimitiveKind3D::Cone) && i == 2));
+        p.dims[i] += radius ? step / 2 : step;
+        break;
+      }
+      case Param::TurnX:
+      case Param::TurnY:
+      case Param::TurnZ: {
+        // Turn about the local axis by the angle that moves the furthest point by about `step`,
+        // at most 15 degrees.
+        const double deg = std::clamp(step / std::max(reach(p), voxel) * kRadToDeg, -15.0, 15.0);
+        const Quaternion turn = Quaternion::from_axis_angle(
+            param == Param::TurnX, param == Param::TurnY, param == Param::TurnZ, deg);
+        p.rotation = p.rotation * turn;
+        p.rotation.normalize();
+        break;
+      }
+      case Param::Apex:
+        p.apex += step / std::max(0.5 * p.dims[0], voxel);
+        break;
+    }
+  }
+};
+
+}  // namespace csgfit

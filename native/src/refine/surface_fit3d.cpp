@@ -8,9 +8,7 @@
 
 namespace csgfit {
 
-using moves3d::move;
-using moves3d::Param;
-using moves3d::params_of;
+using Param = Moves3D::Param;
 
 namespace {
 
@@ -52,9 +50,9 @@ double sum_squares(const Primitive3D& p, const std::vector<const Vec3*>& pts) {
 // Levenberg-Marquardt on one primitive's parameters against its samples.
 Primitive3D fit_to_points(const Primitive3D& start, const std::vector<const Vec3*>& pts, double voxel,
                           int iterations) {
-  LocalOptOptions3D all;
-  Param params[10];
-  const int np = params_of(start.kind, all, params);
+  const Moves3D moves{voxel};
+  Param params[Moves3D::kMaxParams];
+  const int np = Moves3D::params_of(start.kind, LocalOptOptions{}, params);
   const std::size_t m = pts.size();
   Primitive3D p = start;
   double cost = sum_squares(p, pts);
@@ -65,7 +63,7 @@ Primitive3D fit_to_points(const Primitive3D& start, const std::vector<const Vec3
     for (std::size_t i = 0; i < m; ++i) r[i] = p.signed_distance((*pts[i])[0], (*pts[i])[1], (*pts[i])[2]);
     for (int j = 0; j < np; ++j) {
       Primitive3D q = p;
-      move(q, params[j], eps, voxel);
+      moves.move(q, params[j], eps);
       q.normalize();
       for (std::size_t i = 0; i < m; ++i)
         jac[i * np + j] = (q.signed_distance((*pts[i])[0], (*pts[i])[1], (*pts[i])[2]) - r[i]) / eps;
@@ -88,7 +86,7 @@ Primitive3D fit_to_points(const Primitive3D& start, const std::vector<const Vec3
       }
       Primitive3D q = p;
       // Steps of at most two voxels per parameter: the linearisation holds no further.
-      for (int j = 0; j < np; ++j) move(q, params[j], std::clamp(b[j], -2 * voxel, 2 * voxel), voxel);
+      for (int j = 0; j < np; ++j) moves.move(q, params[j], std::clamp(b[j], -2 * voxel, 2 * voxel));
       q.normalize();
       const double c = sum_squares(q, pts);
       if (c < cost) {
@@ -155,8 +153,8 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
     std::size_t round_changes = 0;
     for (std::size_t i = 0; i < n; ++i) {
       if (std::chrono::steady_clock::now() >= options.deadline) return changed;
-      Param params[10];
-      const int np = params_of(ev.leaf(i).kind, LocalOptOptions3D{}, params);
+      Param params[Moves3D::kMaxParams];
+      const int np = Moves3D::params_of(ev.leaf(i).kind, LocalOptOptions{}, params);
       if (assigned[i].size() < static_cast<std::size_t>(3 * np)) continue;
       const Primitive3D refined = fit_to_points(ev.leaf(i), assigned[i], voxel, options.iterations);
       if (refined == ev.leaf(i)) continue;

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "csgfit/eval/evaluator2d.h"
-#include "csgfit/refine/local_opt2d.h"
+#include "csgfit/refine/local_opt.h"
 
 namespace csgfit {
 

@@ -7,7 +7,7 @@
 
 #include "csgfit/eval/evaluator3d.h"
 #include "csgfit/model/quaternion.h"
-#include "csgfit/refine/local_opt3d.h"
+#include "csgfit/refine/local_opt.h"
 
 namespace csgfit {
 
@@ -192,7 +192,7 @@ std::optional<RegionMatch3D> match_region3d(const VoxelGrid& region_in, Primitiv
   // Moments of a digitised shape are only approximately the continuous one's: refine the most
   // promising kinds against the region itself.
   const std::size_t refine = std::min<std::size_t>(3, cands.size());
-  LocalOptOptions3D opt;
+  LocalOptOptions opt;
   opt.max_sweeps = 10;
   opt.initial_step = 1.0;
   opt.min_step = 0.25;

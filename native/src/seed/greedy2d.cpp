@@ -5,7 +5,7 @@
 
 #include "csgfit/eval/evaluator2d.h"
 #include "csgfit/features/features2d.h"
-#include "csgfit/refine/local_opt2d.h"
+#include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose2d.h"
 
 namespace csgfit {
