@@ -11,17 +11,12 @@
 #include <random>
 #include <string>
 
-#include "csgfit/error.h"
+#include "io/input_file.h"
 
 namespace csgfit {
 
-namespace {
-
-std::string quoted(const std::string& path) { return "'" + path + "'"; }
-
-[[noreturn]] void fail(const std::string& message) { throw InputError(message); }
-
-}  // namespace
+using io_detail::fail;
+using io_detail::quoted;
 
 void write_file_atomic(const std::string& path, const std::string& contents) {
   // Unique per process and call, so that concurrent writers never share a temporary file.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "csgfit/model/mesh.h"
+#include "model/triangle_geometry.h"
 
 namespace csgfit {
 
@@ -63,13 +64,9 @@ std::vector<EdgeUse> edge_uses(const TriangleMesh& mesh, const std::vector<int>&
 
 double triangle_area(const TriangleMesh& mesh, const std::array<int, 3>& t) {
   const auto& a = mesh.vertices[t[0]];
-  const auto& b = mesh.vertices[t[1]];
-  const auto& c = mesh.vertices[t[2]];
-  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                       u[0] * v[1] - u[1] * v[0]};
-  return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  const geometry::Point n = geometry::cross(geometry::minus(mesh.vertices[t[1]], a),
+                                            geometry::minus(mesh.vertices[t[2]], a));
+  return 0.5 * std::sqrt(geometry::dot(n, n));
 }
 
 int find_root(std::vector<int>& parent, int x) {
@@ -94,13 +91,8 @@ double signed_volume(const TriangleMesh& mesh) {
   const auto& o = mesh.vertices.front();
   double six_v = 0;
   for (const auto& t : mesh.triangles) {
-    const auto& a = mesh.vertices[t[0]];
-    const auto& b = mesh.vertices[t[1]];
-    const auto& c = mesh.vertices[t[2]];
-    const double ax = a[0] - o[0], ay = a[1] - o[1], az = a[2] - o[2];
-    const double bx = b[0] - o[0], by = b[1] - o[1], bz = b[2] - o[2];
-    const double cx = c[0] - o[0], cy = c[1] - o[1], cz = c[2] - o[2];
-    six_v += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+    six_v += geometry::six_signed_volume(o, mesh.vertices[t[0]], mesh.vertices[t[1]],
+                                         mesh.vertices[t[2]]);
   }
   return six_v / 6;
 }

@@ -17,6 +17,7 @@
 
 #include "csgfit/error.h"
 #include "csgfit/model/voxelize.h"
+#include "model/triangle_geometry.h"
 
 namespace csgfit {
 
@@ -142,13 +143,8 @@ std::size_t flip_inverted_pieces(TriangleMesh& mesh, double budget) {
   const auto& o = mesh.vertices.front();
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
-    const auto& a = mesh.vertices[tri[0]];
-    const auto& b = mesh.vertices[tri[1]];
-    const auto& c = mesh.vertices[tri[2]];
-    const double ax = a[0] - o[0], ay = a[1] - o[1], az = a[2] - o[2];
-    const double bx = b[0] - o[0], by = b[1] - o[1], bz = b[2] - o[2];
-    const double cx = c[0] - o[0], cy = c[1] - o[1], cz = c[2] - o[2];
-    volume[label[t]] += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+    volume[label[t]] += geometry::six_signed_volume(o, mesh.vertices[tri[0]],
+                                                    mesh.vertices[tri[1]], mesh.vertices[tri[2]]);
     members[label[t]].push_back(static_cast<int>(t));
   }
   constexpr int kSamples = 9;

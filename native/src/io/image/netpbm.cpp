@@ -1,5 +1,7 @@
 #include "io/image/netpbm.h"
 
+#include <algorithm>
+
 namespace csgfit::image_detail {
 
 namespace {
@@ -98,87 +100,101 @@ bool parse_netpbm_header(const std::uint8_t* data, std::size_t size, NetpbmHeade
   return true;
 }
 
+namespace {
+
+// Raw PBM: rows of ceil(w/8) bytes, most significant bit first, 1 = black.
+bool decode_raw_pbm(const std::uint8_t* data, std::size_t available, std::size_t width,
+                    std::size_t height, std::uint8_t* out, std::string* reason) {
+  const std::size_t row_bytes = (width + 7) / 8;
+  if (available / (row_bytes ? row_bytes : 1) < height) {
+    *reason = "truncated";
+    return false;
+  }
+  for (std::size_t r = 0; r < height; ++r) {
+    const std::uint8_t* row = data + r * row_bytes;
+    for (std::size_t c = 0; c < width; ++c) {
+      const bool black = (row[c >> 3] >> (7 - (c & 7))) & 1u;
+      out[r * width + c] = black ? 0 : 255;
+    }
+  }
+  return true;
+}
+
+// Raw PGM/PPM: one or two bytes (big endian) per sample.
+bool decode_raw_samples(const std::uint8_t* in, std::size_t available, std::size_t samples,
+                        int maxval, std::uint8_t* out, std::string* reason) {
+  const std::size_t bytes_per_sample = maxval < 256 ? 1 : 2;
+  if (available / bytes_per_sample < samples) {
+    *reason = "truncated";
+    return false;
+  }
+  for (std::size_t i = 0; i < samples; ++i) {
+    const long long v = bytes_per_sample == 1 ? in[i] : (in[2 * i] << 8) | in[2 * i + 1];
+    if (v > maxval) {
+      *reason = "sample value over maxval";
+      return false;
+    }
+    out[i] = scale_to_8bit(v, maxval);
+  }
+  return true;
+}
+
+// Plain PBM ('0'/'1' characters, whitespace optional between them) or plain PGM/PPM (decimal
+// samples separated by whitespace), from pos.
+bool decode_plain(const std::uint8_t* data, std::size_t size, std::size_t pos,
+                  const NetpbmHeader& header, std::size_t samples, std::uint8_t* out,
+                  std::string* reason) {
+  for (std::size_t i = 0; i < samples; ++i) {
+    skip_space_and_comments(data, size, &pos);
+    if (pos >= size) {
+      *reason = "truncated";
+      return false;
+    }
+    if (header.kind == '1') {
+      const std::uint8_t c = data[pos++];
+      if (c != '0' && c != '1') {
+        *reason = "invalid character in plain PBM raster";
+        return false;
+      }
+      out[i] = c == '1' ? 0 : 255;
+      continue;
+    }
+    long long v = 0;
+    if (!read_number(data, size, &pos, &v)) {
+      *reason = "invalid character in plain Netpbm raster";
+      return false;
+    }
+    if (v > header.maxval) {
+      *reason = "sample value over maxval";
+      return false;
+    }
+    out[i] = scale_to_8bit(v, header.maxval);
+  }
+  return true;
+}
+
+}  // namespace
+
 bool decode_netpbm(const std::uint8_t* data, std::size_t size, const NetpbmHeader& header,
                    std::vector<std::uint8_t>* pixels, std::string* reason) {
   const std::size_t width = static_cast<std::size_t>(header.width);
   const std::size_t height = static_cast<std::size_t>(header.height);
   const std::size_t samples = width * height * static_cast<std::size_t>(header.channels);
   pixels->assign(samples, 0);
-  std::size_t pos = header.raster_offset;
+  const std::size_t pos = header.raster_offset;
   const std::size_t available = pos <= size ? size - pos : 0;
+  const std::uint8_t* raster = data + std::min(pos, size);
   std::uint8_t* out = pixels->data();
-
   switch (header.kind) {
-    case '4': {  // raw PBM: rows of ceil(w/8) bytes, most significant bit first, 1 = black
-      const std::size_t row_bytes = (width + 7) / 8;
-      if (available / (row_bytes ? row_bytes : 1) < height) {
-        *reason = "truncated";
-        return false;
-      }
-      for (std::size_t r = 0; r < height; ++r) {
-        const std::uint8_t* row = data + pos + r * row_bytes;
-        for (std::size_t c = 0; c < width; ++c) {
-          const bool black = (row[c >> 3] >> (7 - (c & 7))) & 1u;
-          out[r * width + c] = black ? 0 : 255;
-        }
-      }
-      return true;
-    }
+    case '4':
+      return decode_raw_pbm(raster, available, width, height, out, reason);
     case '5':
-    case '6': {  // raw PGM/PPM: one or two bytes (big endian) per sample
-      const std::size_t bytes_per_sample = header.maxval < 256 ? 1 : 2;
-      if (available / bytes_per_sample < samples) {
-        *reason = "truncated";
-        return false;
-      }
-      const std::uint8_t* in = data + pos;
-      for (std::size_t i = 0; i < samples; ++i) {
-        const long long v = bytes_per_sample == 1 ? in[i] : (in[2 * i] << 8) | in[2 * i + 1];
-        if (v > header.maxval) {
-          *reason = "sample value over maxval";
-          return false;
-        }
-        out[i] = scale_to_8bit(v, header.maxval);
-      }
-      return true;
-    }
-    case '1': {  // plain PBM: '0'/'1' characters, whitespace optional between them
-      for (std::size_t i = 0; i < samples; ++i) {
-        skip_space_and_comments(data, size, &pos);
-        if (pos >= size) {
-          *reason = "truncated";
-          return false;
-        }
-        const std::uint8_t c = data[pos++];
-        if (c != '0' && c != '1') {
-          *reason = "invalid character in plain PBM raster";
-          return false;
-        }
-        out[i] = c == '1' ? 0 : 255;
-      }
-      return true;
-    }
+    case '6':
+      return decode_raw_samples(raster, available, samples, header.maxval, out, reason);
+    case '1':
     case '2':
-    case '3': {  // plain PGM/PPM: decimal samples separated by whitespace
-      for (std::size_t i = 0; i < samples; ++i) {
-        skip_space_and_comments(data, size, &pos);
-        if (pos >= size) {
-          *reason = "truncated";
-          return false;
-        }
-        long long v = 0;
-        if (!read_number(data, size, &pos, &v)) {
-          *reason = "invalid character in plain Netpbm raster";
-          return false;
-        }
-        if (v > header.maxval) {
-          *reason = "sample value over maxval";
-          return false;
-        }
-        out[i] = scale_to_8bit(v, header.maxval);
-      }
-      return true;
-    }
+    case '3':
+      return decode_plain(data, size, pos, header, samples, out, reason);
     default:
       *reason = "not a Netpbm file";
       return false;

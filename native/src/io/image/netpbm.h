@@ -1,4 +1,4 @@
-// Netpbm (PBM/PGM/PPM, plain and raw) reader used by image_io.cpp.
+// Netpbm (PBM/PGM/PPM, plain and raw) reader used by read_image.cpp.
 //
 // Our own reader rather than stb's: stb reads only P5/P6, ignores maxval (a PGM with maxval 15
 // would come out almost black) and does not notice a truncated raster (it returns uninitialised

@@ -9,14 +9,18 @@
 #include <utility>
 
 #include "csgfit/error.h"
+#include "io/json/json_fields.h"
 
 namespace csgfit {
 
 namespace {
 
+using json_detail::fail;
+using json_detail::finite_field;
+using json_detail::member;
+using json_detail::ojson;
+using json_detail::stats_to_json;
 using nlohmann::json;
-// Written documents keep the schema's key order (schema first, type before coordinates).
-using ojson = nlohmann::ordered_json;
 
 constexpr const char* kSchema = "csgfit/1";
 constexpr double kPi = 3.14159265358979323846;
@@ -24,15 +28,6 @@ constexpr double kPi = 3.14159265358979323846;
 // exhausting the stack in the recursive conversion.
 constexpr int kMaxDepth = 256;
 constexpr long long kMaxCanvas = 1 << 20;
-
-[[noreturn]] void fail(const std::string& where, const std::string& what) {
-  throw InputError("JSON: " + where + ": " + what);
-}
-
-double finite_or_throw(double v, const std::string& where, const char* field) {
-  if (!std::isfinite(v)) fail(where, std::string("'") + field + "' is not a finite number");
-  return v;
-}
 
 // ---- writing -----------------------------------------------------------------------------
 
@@ -48,64 +43,38 @@ ojson node_to_json(const Node& n, double s, const std::string& where) {
   const std::string at = where + " (" + std::string(to_string(p.kind)) + ")";
   ojson j;
   j["type"] = std::string(to_string(p.kind));
-  j["cx"] = finite_or_throw(p.cx * s, at, "cx");
-  j["cy"] = finite_or_throw(p.cy * s, at, "cy");
+  j["cx"] = finite_field(p.cx * s, at, "cx");
+  j["cy"] = finite_field(p.cy * s, at, "cy");
   switch (p.kind) {
     case PrimitiveKind::Rectangle:
-      j["w"] = finite_or_throw(p.w * s, at, "w");
-      j["h"] = finite_or_throw(p.h * s, at, "h");
-      j["angle"] = finite_or_throw(p.angle, at, "angle");
+      j["w"] = finite_field(p.w * s, at, "w");
+      j["h"] = finite_field(p.h * s, at, "h");
+      j["angle"] = finite_field(p.angle, at, "angle");
       break;
     case PrimitiveKind::Circle:
-      j["r"] = finite_or_throw(p.w / 2 * s, at, "r");
+      j["r"] = finite_field(p.w / 2 * s, at, "r");
       break;
     case PrimitiveKind::Ellipse:
-      j["rx"] = finite_or_throw(p.w / 2 * s, at, "rx");
-      j["ry"] = finite_or_throw(p.h / 2 * s, at, "ry");
-      j["angle"] = finite_or_throw(p.angle, at, "angle");
+      j["rx"] = finite_field(p.w / 2 * s, at, "rx");
+      j["ry"] = finite_field(p.h / 2 * s, at, "ry");
+      j["angle"] = finite_field(p.angle, at, "angle");
       break;
     case PrimitiveKind::Triangle:
-      j["w"] = finite_or_throw(p.w * s, at, "w");
-      j["h"] = finite_or_throw(p.h * s, at, "h");
-      j["angle"] = finite_or_throw(p.angle, at, "angle");
-      j["apex"] = finite_or_throw(p.apex, at, "apex");
+      j["w"] = finite_field(p.w * s, at, "w");
+      j["h"] = finite_field(p.h * s, at, "h");
+      j["angle"] = finite_field(p.angle, at, "angle");
+      j["apex"] = finite_field(p.apex, at, "apex");
       break;
   }
   return j;
 }
 
-// JSON has no NaN or infinity: such a statistic is written as null (and read back as 0).
-ojson number_or_null(double v) { return std::isfinite(v) ? ojson(v) : ojson(nullptr); }
-
-ojson stats_to_json(const FitStats& st) {
-  return ojson{{"k", number_or_null(st.k)},
-              {"score", number_or_null(st.score)},
-              {"excess", st.excess},
-              {"uncovered", st.uncovered},
-              {"primitives", st.primitives},
-              {"iou", number_or_null(st.iou)},
-              {"evaluations", st.evaluations},
-              {"trees", st.trees},
-              {"seconds", number_or_null(st.seconds)},
-              {"stop_reason", st.stop_reason}};
-}
-
 // ---- reading -----------------------------------------------------------------------------
-
-const json* member(const json& j, const char* key) {
-  const auto it = j.find(key);
-  return it == j.end() ? nullptr : &*it;
-}
 
 double number(const json& j, const char* key, const std::string& where, bool required,
               double fallback = 0) {
-  const json* v = member(j, key);
-  if (!v) {
-    if (required) fail(where, std::string("missing number '") + key + "'");
-    return fallback;
-  }
-  if (!v->is_number()) fail(where, std::string("'") + key + "' must be a number");
-  return finite_or_throw(v->get<double>(), where, key);
+  if (!required && !member(j, key)) return fallback;
+  return json_detail::finite_number(j, key, where, json_detail::kNotFinite);
 }
 
 double positive(const json& j, const char* key, const std::string& where) {
@@ -124,8 +93,8 @@ Primitive triangle_from_points(const json& pts, double s, const std::string& whe
     const json& q = pts[i];
     if (!q.is_array() || q.size() != 2 || !q[0].is_number() || !q[1].is_number())
       fail(where, "'points' must be an array of 3 [x, y] pairs");
-    v[i][0] = finite_or_throw(q[0].get<double>() / s, where, "points");
-    v[i][1] = finite_or_throw(q[1].get<double>() / s, where, "points");
+    v[i][0] = finite_field(q[0].get<double>() / s, where, "points");
+    v[i][1] = finite_field(q[1].get<double>() / s, where, "points");
   }
   int base = 0;
   double best = -1;
@@ -159,14 +128,9 @@ Node node_from(const json& j, double s, const std::string& where, int depth) {
     if (!op->is_string()) fail(where, "'op' must be a string");
     const std::string name = op->get<std::string>();
     NodeKind kind;
-    if (name == "union")
-      kind = NodeKind::Union;
-    else if (name == "difference")
-      kind = NodeKind::Difference;
-    else if (name == "intersection")
-      kind = NodeKind::Intersection;
-    else
+    if (!json_detail::node_kind_from_name(name, &kind)) {
       fail(where, "unknown op '" + name + "' (expected union, difference or intersection)");
+    }
     const json* kids = member(j, "children");
     if (!kids || !kids->is_array()) fail(where, "'" + name + "' needs a 'children' array");
     if (kids->empty()) fail(where, "'" + name + "' has no children");

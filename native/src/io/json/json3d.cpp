@@ -1,4 +1,4 @@
-// JSON form of a 3D fit ("dimension": 3); see to_json3d in fit3d.h.
+// JSON form of a 3D fit ("dimension": 3); see to_json3d in csgfit/io/json.h.
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -8,15 +8,19 @@
 
 #include "csgfit/error.h"
 #include "csgfit/io/json.h"
+#include "io/json/json_fields.h"
 
 namespace csgfit {
 
 namespace {
 
-using ojson = nlohmann::ordered_json;
+using json_detail::fail;
+using json_detail::finite_field;
+using json_detail::kNotFinite3D;
+using json_detail::ojson;
 
 double finite(double v, const std::string& where) {
-  if (!std::isfinite(v)) throw InputError("JSON: " + where + ": a value is not a finite number");
+  if (!std::isfinite(v)) fail(where, "a value is not a finite number");
   return v;
 }
 
@@ -25,9 +29,7 @@ ojson node3d_to_json(const Node3D& n, const std::string& where) {
     ojson children = ojson::array();
     for (std::size_t i = 0; i < n.children.size(); ++i)
       children.push_back(node3d_to_json(n.children[i], where + ".children[" + std::to_string(i) + "]"));
-    const char* op = n.kind == NodeKind::Union ? "union"
-                     : n.kind == NodeKind::Difference ? "difference" : "intersection";
-    return ojson{{"op", op}, {"children", std::move(children)}};
+    return ojson{{"op", std::string(to_string(n.kind))}, {"children", std::move(children)}};
   }
   const Primitive3D& p = n.primitive;
   const Vec3 e = p.rotation.euler_deg();
@@ -53,21 +55,10 @@ ojson node3d_to_json(const Node3D& n, const std::string& where) {
   return j;
 }
 
-ojson number_or_null(double v) { return std::isfinite(v) ? ojson(v) : ojson(nullptr); }
-
 // ---- reading (csgfit export) ---------------------------------------------------------------
 
-[[noreturn]] void fail(const std::string& where, const std::string& what) {
-  throw InputError("JSON: " + where + ": " + what);
-}
-
 double number(const ojson& j, const char* key, const std::string& where) {
-  const auto it = j.find(key);
-  if (it == j.end()) fail(where, std::string("missing number '") + key + "'");
-  if (!it->is_number()) fail(where, std::string("'") + key + "' must be a number");
-  const double v = it->get<double>();
-  if (!std::isfinite(v)) fail(where, std::string("'") + key + "' is not finite");
-  return v;
+  return json_detail::finite_number(j, key, where, kNotFinite3D);
 }
 
 template <std::size_t N>
@@ -78,8 +69,7 @@ std::array<double, N> numbers(const ojson& j, const char* key, const std::string
   std::array<double, N> out{};
   for (std::size_t i = 0; i < N; ++i) {
     if (!(*it)[i].is_number()) fail(where, std::string("'") + key + "' must hold numbers");
-    out[i] = (*it)[i].get<double>();
-    if (!std::isfinite(out[i])) fail(where, std::string("'") + key + "' is not finite");
+    out[i] = finite_field((*it)[i].get<double>(), where, key, kNotFinite3D);
   }
   return out;
 }
@@ -90,10 +80,7 @@ Node3D node3d_from_json(const ojson& j, const std::string& where, int depth) {
   if (const auto op = j.find("op"); op != j.end()) {
     const std::string name = op->is_string() ? op->get<std::string>() : "";
     NodeKind kind;
-    if (name == "union") kind = NodeKind::Union;
-    else if (name == "difference") kind = NodeKind::Difference;
-    else if (name == "intersection") kind = NodeKind::Intersection;
-    else fail(where, "unknown op '" + name + "'");
+    if (!json_detail::node_kind_from_name(name, &kind)) fail(where, "unknown op '" + name + "'");
     const auto kids = j.find("children");
     if (kids == j.end() || !kids->is_array() || kids->empty())
       fail(where, "'children' must be a non-empty array");
@@ -201,7 +188,6 @@ Node3D from_json3d(const std::string& text, std::string* source) {
 
 std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
                       const Quaternion& frame) {
-  const FitStats& st = result.stats;
   ojson doc;
   doc["schema"] = "csgfit/1";
   doc["dimension"] = 3;
@@ -214,16 +200,7 @@ std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const st
                      {"voxel_size", grid.voxel_size()},
                      {"frame", {frame.w, frame.x, frame.y, frame.z}}};
   doc["tree"] = node3d_to_json(result.tree, "tree");
-  doc["stats"] = ojson{{"k", number_or_null(st.k)},
-                       {"score", number_or_null(st.score)},
-                       {"excess", st.excess},
-                       {"uncovered", st.uncovered},
-                       {"primitives", st.primitives},
-                       {"iou", number_or_null(st.iou)},
-                       {"evaluations", st.evaluations},
-                       {"trees", st.trees},
-                       {"seconds", number_or_null(st.seconds)},
-                       {"stop_reason", st.stop_reason}};
+  doc["stats"] = json_detail::stats_to_json(result.stats);
   return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
 }
 

@@ -1,0 +1,60 @@
+// What every mesh reader hands its vertices and faces to: checks them against the limits,
+// welds STL vertices, fan-triangulates polygons, drops degenerate triangles and counts.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <unordered_map>
+
+#include "csgfit/io/mesh_read.h"
+#include "csgfit/model/mesh.h"
+
+namespace csgfit::io_detail {
+
+/// Collects one file's mesh. Failures throw InputError naming `path`.
+class MeshBuilder {
+ public:
+  MeshBuilder(const std::string& path, const MeshReadOptions& options)
+      : path_(path), options_(options) {}
+
+  void reserve_vertices(std::size_t n) { mesh_.vertices.reserve(n); }
+  void reserve_triangles(std::size_t n) { mesh_.triangles.reserve(n); }
+
+  std::size_t vertex_count() const { return mesh_.vertices.size(); }
+
+  /// A vertex; `what number` says where in the file (e.g. "line 12"), formatted on failure only.
+  void add_vertex(double x, double y, double z, const char* what, long long number);
+
+  /// A welded vertex (STL shares none): equal positions get one index, which is returned.
+  int add_welded_vertex(double x, double y, double z, const char* what, long long number);
+
+  /// A face given by n 0-based vertex indices, checked against the vertex count in finish()
+  /// (OBJ and PLY may list faces before all vertices).
+  void add_face(const long long* indices, std::size_t n);
+
+  [[noreturn]] void fail_too_many_triangles() const;
+
+  /// The mesh without degenerate triangles; `format` and the counts go to *info.
+  TriangleMesh finish(const std::string& format, MeshReadInfo* info);
+
+ private:
+  struct Key {
+    double x, y, z;
+    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const;
+  };
+
+  [[noreturn]] void fail_index(long long index) const;
+  bool degenerate(const std::array<int, 3>& t) const;
+
+  const std::string& path_;
+  const MeshReadOptions& options_;
+  TriangleMesh mesh_;
+  std::size_t faces_ = 0;
+  std::unordered_map<Key, int, KeyHash> weld_;
+};
+
+}  // namespace csgfit::io_detail
