@@ -21,6 +21,7 @@
 #include "csgfit/pipeline/fit_voxels.h"
 #include "csgfit/io/files.h"
 #include "csgfit/io/image.h"
+#include "csgfit/io/input3d.h"
 #include "csgfit/io/json.h"
 #include "csgfit/pipeline/fit_mesh.h"
 #include "csgfit/io/mesh_read.h"
@@ -320,41 +321,29 @@ int main(int argc, char** argv) {
       options.time_limit = mesh_time;
       options.threads = mesh_threads;
       options.seed = mesh_seed;
-      FitResult3D result;
-      VoxelGrid target;  // the grid the summary's IoU is measured on
-      Quaternion frame;
       ProgressBar bar(!mesh_quiet);
       auto on_progress = [&](const FitProgress& p) { return bar.update(p); };
-      if (is_voxel_path(mesh_in)) {
-        target = read_voxels(mesh_in);
-        if (target.empty() || target.count() == 0)
-          throw InputError("no solid found in '" + mesh_in + "' (no voxel is set)");
-        result = fit_voxels(target, options, on_progress);
-      } else if (is_mesh_path(mesh_in)) {
-        const auto read_start = std::chrono::steady_clock::now();
-        const TriangleMesh mesh = read_mesh(mesh_in);
-        const MeshReport report = analyze_mesh(mesh);
-        const std::string problems = describe_mesh_problems(report);
-        if (!problems.empty() && !mesh_quiet) std::cerr << "csgfit: warning: " << problems << "\n";
+      const auto read_start = std::chrono::steady_clock::now();
+      const Input3D input = read_input3d(mesh_in);
+      const std::string problems = input.warning();
+      if (!problems.empty() && !mesh_quiet) std::cerr << "csgfit: warning: " << problems << "\n";
+      if (input.is_mesh()) {
         // --time is the whole run: reading the mesh and writing the result come out of it.
         const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
         options.time_limit = std::max(0.05 * mesh_time, mesh_time - spent - 0.1);
-        MeshFitOptions mopt;
-        mopt.resolution = mesh_resolution;
-        mopt.align = !mesh_no_align;
-        MeshFitResult fitted;
-        try {
-          fitted = fit_mesh(mesh, report, options, mopt, on_progress);
-        } catch (const InputError& e) {
-          throw InputError(std::string(e.what()) + ": '" + mesh_in + "'");
-        }
-        result = std::move(fitted.fit);
-        target = std::move(fitted.grid);
-        frame = fitted.frame;
-      } else {
-        throw InputError("unknown input format '" + mesh_in +
-                         "' (expected .stl, .obj, .off, .ply, .npy or .binvox)");
       }
+      MeshFitOptions mopt;
+      mopt.resolution = mesh_resolution;
+      mopt.align = !mesh_no_align;
+      MeshFitResult fitted;
+      try {
+        fitted = fit_input3d(input, options, mopt, on_progress);
+      } catch (const InputError& e) {
+        throw InputError(std::string(e.what()) + ": '" + mesh_in + "'");
+      }
+      const FitResult3D& result = fitted.fit;
+      const VoxelGrid& target = fitted.grid;  // the grid the summary's IoU is measured on
+      const Quaternion& frame = fitted.frame;
       bar.finish();
       const std::string source = fs::path(mesh_in).filename().string();
       if (ext == ".scad") {

@@ -1,8 +1,10 @@
-// read_mesh and read_voxels: the extension picks the format.
+// read_mesh, read_voxels and read_input3d: the extension picks the format.
 
 #include <algorithm>
 #include <string>
 
+#include "csgfit/error.h"
+#include "csgfit/io/input3d.h"
 #include "csgfit/io/mesh_read.h"
 #include "csgfit/io/voxels_read.h"
 #include "io/input_file.h"
@@ -57,6 +59,13 @@ VoxelGrid read_voxels(const std::string& path, const VoxelReadOptions& options) 
   const std::string data = io_detail::read_whole_file(path, max_bytes, "the input limit");
   if (ext == "npy") return io_detail::read_npy(path, data, options);
   return io_detail::read_binvox(path, data, options);
+}
+
+Input3D read_input3d(const std::string& path) {
+  if (is_voxel_path(path)) return Input3D::from_voxels(read_voxels(path));
+  if (is_mesh_path(path)) return Input3D::from_mesh(read_mesh(path));
+  throw InputError("unknown input format '" + path +
+                   "' (expected .stl, .obj, .off, .ply, .npy or .binvox)");
 }
 
 }  // namespace csgfit
