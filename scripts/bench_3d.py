@@ -17,15 +17,8 @@ aborts the run; the exit status is 1 if any failed.
 """
 
 import argparse
-import concurrent.futures
-import csv
-import datetime
-import json
 import os
-import platform
 import re
-import shlex
-import shutil
 import statistics
 import subprocess
 import sys
@@ -34,18 +27,15 @@ import time
 import numpy as np
 
 SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
-REPO_DIR = os.path.dirname(SCRIPT_DIR)
-DEFAULT_BENCH_DIR = os.path.normpath(os.path.join(REPO_DIR, "..", "shared", "benchmarks", "3d",
-                                                  "inversecsg"))
-DOC_BEGIN = "<!-- bench3d:begin -->"
-DOC_END = "<!-- bench3d:end -->"
-
-KIND_LABELS = {"cad": "cad (InverseCSG CAD meshes)",
-               "synthetic": "synthetic (ground-truth .scad)"}
-
 if SCRIPT_DIR not in sys.path:
     sys.path.insert(0, SCRIPT_DIR)
+import benchlib  # noqa: E402  (what bench_2d.py does the same way)
 import stl_voxelize  # noqa: E402  (scripts/stl_voxelize.py: imported, never copied)
+from benchlib import fmt, iou, numeric  # noqa: E402
+
+PROG = "bench_3d"
+KIND_LABELS = {"cad": "cad (InverseCSG CAD meshes)",
+               "synthetic": "synthetic (ground-truth .scad)"}
 
 # ----------------------------------------------------------------------------------------------
 # Meshes and voxels
@@ -101,59 +91,36 @@ def volume_iou(tris_a, tris_b, grid):
     n, origin, size = union_grid([tris_a, tris_b], grid)
     a = stl_voxelize.voxelize(tris_a, n, origin, size) > 0
     b = stl_voxelize.voxelize(tris_b, n, origin, size) > 0
-    union = np.count_nonzero(a | b)
-    return (1.0 if union == 0 else np.count_nonzero(a & b) / union), n
+    return iou(a, b), n
 
 
 # ----------------------------------------------------------------------------------------------
 # OpenSCAD and the CLI
 
-SUMMARY_RE = re.compile(r"IoU\s*[=:]?\s*(?P<iou>[0-9.]+)")
-PRIMS_RE = re.compile(r"(?P<n>\d+)\s+primitives?")
-EVALS_RE = re.compile(r"(?P<n>\d+)\s+evaluations?")
-SECONDS_RE = re.compile(r"(?P<s>[0-9.]+)\s*s\b")
-STOP_RE = re.compile(r"\(([^()]*)\)\s*$")
 SCAD_PRIMITIVE_RE = re.compile(r"\b(cube|sphere|cylinder|polyhedron|rotate_extrude|"
                                r"linear_extrude)\s*\(")
+SOLVER_COLUMNS = dict(benchlib.SOLVER_COLUMNS, stop_reason="stop")
 
 
-def parse_summary(stderr):
-    """The CLI's final line: 'csgfit: IoU 0.98, 12 primitives, 340 trees, 34567 evaluations,
-    29.93 s (time)'; returns the keys it found."""
-    out = {}
-    lines = [l for l in stderr.splitlines() if SUMMARY_RE.search(l) and PRIMS_RE.search(l)]
-    if lines:
-        line = lines[-1].strip()
-        out["iou"] = float(SUMMARY_RE.search(line).group("iou"))
-        out["primitives"] = int(PRIMS_RE.search(line).group("n"))
-        if EVALS_RE.search(line):
-            out["evaluations"] = int(EVALS_RE.search(line).group("n"))
-        secs = SECONDS_RE.findall(line.split("evaluations")[-1])
-        if secs:
-            out["seconds"] = float(secs[-1])
-        stop = STOP_RE.search(line)
-        if stop:
-            out["stop"] = stop.group(1).strip()
-    return out
+def summary_cells(stderr):
+    """The solver columns, with the stop reason, from the CLI's summary line."""
+    return benchlib.solver_cells(benchlib.parse_summary(stderr), SOLVER_COLUMNS)
 
 
 def openscad_stl(scad, stl, timeout):
     """Renders scad to stl (written atomically so that a killed render is never cached)."""
     tmp = stl + ".part.stl"
-    if os.path.exists(tmp):
-        os.remove(tmp)
+    benchlib.remove_files(tmp)
     try:
         proc = subprocess.run(["openscad", "-o", tmp, scad], capture_output=True, text=True,
                               timeout=timeout)
     except subprocess.TimeoutExpired:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+        benchlib.remove_files(tmp)
         raise RuntimeError("OpenSCAD did not finish within %g s" % timeout)
     if proc.returncode != 0 or not os.path.exists(tmp) or os.path.getsize(tmp) == 0:
         msg = [l for l in proc.stderr.splitlines() if "ERROR" in l or "WARNING" in l]
         last = (msg or proc.stderr.strip().splitlines() or ["(no message)"])[-1]
-        if os.path.exists(tmp):
-            os.remove(tmp)
+        benchlib.remove_files(tmp)
         raise RuntimeError("OpenSCAD exit %d: %s" % (proc.returncode, last[:200]))
     os.replace(tmp, stl)
 
@@ -189,62 +156,18 @@ def fit_one(entry, row, args):
     name = entry["name"]
     scad = os.path.join(args.out, name + ".scad")
     stl = os.path.join(args.out, name + ".stl")
-    cmd = [args.cli, "mesh", row["_mesh"], "-o", scad, "--time", "%g" % args.time]
-    cmd += shlex.split(args.extra_args)
-    row["command"] = " ".join(shlex.quote(c) for c in cmd)
+    cmd = benchlib.csgfit_command(args, "mesh", row["_mesh"], scad)
     log = os.path.join(args.out, name + ".stderr.txt")
     wall_file = os.path.join(args.out, name + ".wall.txt")
     if args.reuse and os.path.exists(scad) and os.path.exists(log):
-        # Score a previous run's output again (e.g. with other OpenSCAD settings).
-        with open(log) as f:
-            summary = parse_summary(f.read())
-        row["solver_iou"] = summary.get("iou", "")
-        row["solver_primitives"] = summary.get("primitives", "")
-        row["solver_evaluations"] = summary.get("evaluations", "")
-        row["solver_seconds"] = summary.get("seconds", "")
-        row["stop_reason"] = summary.get("stop", "")
-        row["exit_code"] = 0
-        if os.path.exists(wall_file):
-            with open(wall_file) as f:
-                row["wall_s"] = float(f.read().strip())
-        else:
-            row["wall_s"] = summary.get("seconds", 0.0)
-            row["wall_from_summary"] = True
-        return row
-    for stale in (scad, stl, wall_file):
-        if os.path.exists(stale):
-            os.remove(stale)
-    t0 = time.monotonic()
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True,
-                              timeout=args.time * 3 + 120)
-        row["wall_s"] = time.monotonic() - t0
-        row["exit_code"] = proc.returncode
-        with open(log, "w") as f:
-            f.write(proc.stderr)
-        with open(wall_file, "w") as f:
-            f.write("%.3f\n" % row["wall_s"])
-        if proc.returncode != 0:
-            last = (proc.stderr.strip().splitlines() or ["(no message)"])[-1]
-            raise RuntimeError("csgfit exit %d: %s" % (proc.returncode, last[:200]))
-        summary = parse_summary(proc.stderr)
-        row["solver_iou"] = summary.get("iou", "")
-        row["solver_primitives"] = summary.get("primitives", "")
-        row["solver_evaluations"] = summary.get("evaluations", "")
-        row["solver_seconds"] = summary.get("seconds", "")
-        row["stop_reason"] = summary.get("stop", "")
-        if not os.path.exists(scad):
-            raise RuntimeError("csgfit exited 0 but wrote no .scad")
-    except subprocess.TimeoutExpired:
-        row["wall_s"] = time.monotonic() - t0
-        row["status"] = "cli-timeout"
+        row["command"] = benchlib.command_text(cmd)
+        return reuse_fit(row, log, wall_file)
+    benchlib.remove_files(scad, stl, wall_file)
+    failure = benchlib.run_cli(cmd, row, scad, log, args.time * 3 + 120, summary_cells,
+                               wall_file)
+    if failure:
         row["scad_rendered"] = "no"
-        row["_errors"].append("csgfit did not finish")
-        return row
-    except Exception as exc:
-        row["status"] = "cli-fail"
-        row["scad_rendered"] = "no"
-        row["_errors"].append(str(exc))
+        row["_errors"].append(failure)
         return row
     if row["solver_primitives"] == "":
         with open(scad) as f:
@@ -252,44 +175,69 @@ def fit_one(entry, row, args):
     return row
 
 
+def reuse_fit(row, log, wall_file):
+    """Scores a previous run's output again (e.g. with other OpenSCAD settings)."""
+    with open(log) as f:
+        summary = benchlib.parse_summary(f.read())
+    row.update(benchlib.solver_cells(summary, SOLVER_COLUMNS))
+    row["exit_code"] = 0
+    if os.path.exists(wall_file):
+        with open(wall_file) as f:
+            row["wall_s"] = float(f.read().strip())
+    else:
+        row["wall_s"] = summary.get("seconds", 0.0)
+        row["wall_from_summary"] = True
+    return row
+
+
 def score_one(entry, row, args):
     """OpenSCAD renders our .scad and InverseCSG's program; both are scored against the input."""
-    name = entry["name"]
     errors = row.pop("_errors", [])
     target = read_mesh(row.pop("_mesh"))
     row["input_triangles"] = len(target)
-    sol = entry.get("inversecsg_solution")
-    if sol and os.path.exists(os.path.join(args.bench_dir, sol)):
-        incl = entry.get("inversecsg_primitives_incl_bbox")
-        if incl is not None:
-            row["icsg_primitives_incl_bbox"] = incl
-            row["icsg_primitives"] = incl - 1
-        try:
-            stl = cached_stl(os.path.join(args.bench_dir, sol),
-                             os.path.join(args.out, "cache", name + ".inversecsg.stl"),
-                             args.openscad_timeout)
-            row["icsg_iou"], _ = volume_iou(target, read_mesh(stl), args.grid)
-        except Exception as exc:  # recorded, never fatal
-            errors.append("InverseCSG: %s" % exc)
+    score_inversecsg(entry, row, target, args, errors)
     if row["status"] == "ok":
-        scad = os.path.join(args.out, name + ".scad")
-        stl = os.path.join(args.out, name + ".stl")
-        try:
-            openscad_stl(scad, stl, args.openscad_timeout)
-            row["scad_rendered"] = "yes"
-        except Exception as exc:
-            row["scad_rendered"] = "no"
-            row["status"] = "openscad-fail"
-            errors.append(str(exc))
-        if row["scad_rendered"] == "yes":
-            try:
-                row["iou"], n = volume_iou(target, read_mesh(stl), args.grid)
-                row["grid"] = "x".join(map(str, n))
-            except Exception as exc:
-                row["status"] = "iou-fail"
-                errors.append("IoU: %s" % exc)
+        score_ours(entry, row, target, args, errors)
     row["error"] = "; ".join(errors)
     return row
+
+
+def score_inversecsg(entry, row, target, args, errors):
+    """InverseCSG's published program for the model, where there is one, scored like ours."""
+    sol = entry.get("inversecsg_solution")
+    if not (sol and os.path.exists(os.path.join(args.bench_dir, sol))):
+        return
+    incl = entry.get("inversecsg_primitives_incl_bbox")
+    if incl is not None:
+        row["icsg_primitives_incl_bbox"] = incl
+        row["icsg_primitives"] = incl - 1
+    try:
+        stl = cached_stl(os.path.join(args.bench_dir, sol),
+                         os.path.join(args.out, "cache", entry["name"] + ".inversecsg.stl"),
+                         args.openscad_timeout)
+        row["icsg_iou"], _ = volume_iou(target, read_mesh(stl), args.grid)
+    except Exception as exc:  # recorded, never fatal
+        errors.append("InverseCSG: %s" % exc)
+
+
+def score_ours(entry, row, target, args, errors):
+    """OpenSCAD's rendering of our .scad against the input mesh."""
+    scad = os.path.join(args.out, entry["name"] + ".scad")
+    stl = os.path.join(args.out, entry["name"] + ".stl")
+    try:
+        openscad_stl(scad, stl, args.openscad_timeout)
+        row["scad_rendered"] = "yes"
+    except Exception as exc:
+        row["scad_rendered"] = "no"
+        row["status"] = "openscad-fail"
+        errors.append(str(exc))
+    if row["scad_rendered"] == "yes":
+        try:
+            row["iou"], n = volume_iou(target, read_mesh(stl), args.grid)
+            row["grid"] = "x".join(map(str, n))
+        except Exception as exc:
+            row["status"] = "iou-fail"
+            errors.append("IoU: %s" % exc)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -303,22 +251,6 @@ CSV_FIELDS = ["name", "kind", "status", "iou", "solver_primitives", "wall_s", "s
 TARGETS = {"mean_iou": 0.97, "median_wall": 60.0}
 
 
-def _num(rows, key):
-    out = []
-    for r in rows:
-        v = r.get(key, "")
-        if v not in ("", None):
-            try:
-                out.append(float(v))
-            except ValueError:
-                pass
-    return out
-
-
-def _fmt(values, fn, digits, na="n/a"):
-    return na if not values else ("%.*f" % (digits, fn(values)))
-
-
 def _cell(r, key, digits=None):
     v = r.get(key, "")
     if v in ("", None):
@@ -328,14 +260,6 @@ def _cell(r, key, digits=None):
 
 def _failed(r):
     return r.get("status") != "ok"
-
-
-def kind_groups(rows):
-    groups = {}
-    for r in rows:
-        groups.setdefault(r["kind"], []).append(r)
-    order = [k for k in KIND_LABELS if k in groups] + [k for k in groups if k not in KIND_LABELS]
-    return [(KIND_LABELS.get(k, k), groups[k]) for k in order] + [("**all**", rows)]
 
 
 def model_table(rows):
@@ -359,17 +283,17 @@ def summary_table(rows):
              "| InverseCSG mean IoU | InverseCSG min IoU | GT mean prims | median s | "
              "every .scad rendered | failed |",
              "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|--:|"]
-    for label, rs in kind_groups(rows):
-        ious = _num(rs, "iou")
-        ic = _num(rs, "icsg_iou")
+    for label, rs in benchlib.kind_groups(rows, KIND_LABELS) + [("**all**", rows)]:
+        ious = numeric(rs, "iou")
+        ic = numeric(rs, "icsg_iou")
         rendered = sum(r.get("scad_rendered") == "yes" for r in rs)
         lines.append("| %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d |" % (
-            label, len(rs), _fmt(ious, statistics.mean, 4), _fmt(ious, min, 4),
-            _fmt(_num(rs, "solver_primitives"), statistics.mean, 1),
-            _fmt(_num(rs, "icsg_primitives"), statistics.mean, 1, na="-"),
-            _fmt(ic, statistics.mean, 4, na="-"), _fmt(ic, min, 4, na="-"),
-            _fmt(_num(rs, "gt_primitives"), statistics.mean, 1, na="-"),
-            _fmt(_num(rs, "wall_s"), statistics.median, 1),
+            label, len(rs), fmt(ious, statistics.mean, 4), fmt(ious, min, 4),
+            fmt(numeric(rs, "solver_primitives"), statistics.mean, 1),
+            fmt(numeric(rs, "icsg_primitives"), statistics.mean, 1, na="-"),
+            fmt(ic, statistics.mean, 4, na="-"), fmt(ic, min, 4, na="-"),
+            fmt(numeric(rs, "gt_primitives"), statistics.mean, 1, na="-"),
+            fmt(numeric(rs, "wall_s"), statistics.median, 1),
             "%s (%d / %d)" % ("yes" if rendered == len(rs) else "no", rendered, len(rs)),
             sum(_failed(r) for r in rs)))
     return "\n".join(lines)
@@ -377,8 +301,8 @@ def summary_table(rows):
 
 def acceptance(rows):
     """Issue 4's targets (for a --time 60 run) against this run: list of (text, ok)."""
-    ious = _num(rows, "iou")
-    walls = _num(rows, "wall_s")
+    ious = numeric(rows, "iou")
+    walls = numeric(rows, "wall_s")
     rendered = sum(r.get("scad_rendered") == "yes" for r in rows)
     # Primitives are compared on the models that have an InverseCSG program, without its bbox.
     paired = [r for r in rows if r.get("icsg_primitives") not in ("", None)
@@ -390,15 +314,15 @@ def acceptance(rows):
         ("every .scad renders in OpenSCAD: %d / %d" % (rendered, len(rows)),
          rendered == len(rows)),
         ("mean IoU >= 0.97: %s (%d of %d models rendered)"
-         % (_fmt(ious, statistics.mean, 4), len(ious), len(rows)),
+         % (fmt(ious, statistics.mean, 4), len(ious), len(rows)),
          len(ious) == len(rows) and statistics.mean(ious) >= TARGETS["mean_iou"]),
         ("fewer primitives than InverseCSG on average: ours %s vs InverseCSG %s excl. bbox "
          "(%d of %d models with an InverseCSG program)"
-         % (_fmt(ours, statistics.mean, 1), _fmt(theirs, statistics.mean, 1), len(paired),
+         % (fmt(ours, statistics.mean, 1), fmt(theirs, statistics.mean, 1), len(paired),
             n_icsg),
          bool(paired) and len(paired) == n_icsg
          and statistics.mean(ours) < statistics.mean(theirs)),
-        ("median wall time <= 60 s: %s" % _fmt(walls, statistics.median, 1),
+        ("median wall time <= 60 s: %s" % fmt(walls, statistics.median, 1),
          bool(walls) and statistics.median(walls) <= TARGETS["median_wall"]),
     ]
     if not n_icsg:
@@ -407,63 +331,26 @@ def acceptance(rows):
     return checks
 
 
-def git_commit():
-    try:
-        return subprocess.run(["git", "-C", REPO_DIR, "rev-parse", "--short", "HEAD"],
-                              capture_output=True, text=True, timeout=10).stdout.strip() or "?"
-    except (OSError, subprocess.SubprocessError):
-        return "?"
-
-
 def report(rows, args):
-    when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
-    extra = (" " + args.extra_args) if args.extra_args else ""
-    out = ["Measured %s, commit %s, `csgfit mesh --time %g%s`, %d models, --jobs %d, IoU on "
-           ">= %d^3 voxels, %d cores (%s).%s\n" % (
-               when, git_commit(), args.time, extra, len(rows), args.jobs, args.grid,
-               os.cpu_count() or 0, platform.platform(terse=True),
-               "" if args.time >= 60 else
-               " The acceptance targets are stated for --time 60.")]
+    out = [benchlib.measured_line(
+        args, "mesh", "%d models" % len(rows), detail="IoU on >= %d^3 voxels, " % args.grid,
+        note="" if args.time >= 60 else " The acceptance targets are stated for --time 60.")]
     out.append(summary_table(rows))
     out.append("\nAcceptance targets (issue 4):\n")
-    for text, ok in acceptance(rows):
-        mark = "n/a" if ok is None else ("PASS" if ok else "FAIL")
-        out.append("- %s: %s" % (mark, text))
-    failed = [r for r in rows if _failed(r)]
-    if failed:
-        out.append("\nFailures:\n")
-        for r in failed:
-            out.append("- `%s`: %s (%s)" % (r["name"], r["status"], r.get("error", "")))
+    out += benchlib.outcome_lines(acceptance(rows), [r for r in rows if _failed(r)])
     out.append("\nPer model:\n")
     out.append(model_table(rows))
     return "\n".join(out) + "\n"
 
 
-def write_doc(path, text):
-    with open(path) as f:
-        doc = f.read()
-    begin, end = doc.find(DOC_BEGIN), doc.find(DOC_END)
-    if begin < 0 or end < begin:
-        raise SystemExit("%s has no %s ... %s section" % (path, DOC_BEGIN, DOC_END))
-    doc = doc[:begin + len(DOC_BEGIN)] + "\n" + text + doc[end:]
-    with open(path, "w") as f:
-        f.write(doc)
-
-
 # ----------------------------------------------------------------------------------------------
 
 
-def main(argv=None):
+def parse_args(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--cli", default=os.path.join(REPO_DIR, "build", "bin", "csgfit"))
-    ap.add_argument("--bench-dir", default=DEFAULT_BENCH_DIR)
-    ap.add_argument("--time", type=float, default=60.0, help="csgfit --time budget (s)")
-    ap.add_argument("--jobs", type=int, default=1,
-                    help="models in parallel (default 1: the solver uses every core itself)")
-    ap.add_argument("--only", nargs="+", metavar="NAME", help="run only these models")
+    benchlib.add_run_args(ap, "3d", "models", 60.0)
     ap.add_argument("--kind", choices=sorted(KIND_LABELS), help="run only this kind")
-    ap.add_argument("--out", default=os.path.join(REPO_DIR, "bench-out", "3d"))
-    ap.add_argument("--extra-args", default="", help="appended to every csgfit command")
+    benchlib.add_output_args(ap, "3d")
     ap.add_argument("--reuse", action="store_true",
                     help="score the .scad files a previous run left in --out instead of fitting "
                          "again (models without one are fitted)")
@@ -471,84 +358,47 @@ def main(argv=None):
                     help="IoU grid: cubic voxels, at least GRID^3 of them (default 96)")
     ap.add_argument("--openscad-timeout", type=float, default=300.0,
                     help="seconds per OpenSCAD render (default 300)")
-    ap.add_argument("--write-doc", nargs="?", const=os.path.join(REPO_DIR, "docs",
-                                                                 "BENCHMARKS.md"),
-                    metavar="MD", help="replace the bench3d section of docs/BENCHMARKS.md")
-    args = ap.parse_args(argv)
+    benchlib.add_doc_arg(ap, "3d")
+    return ap.parse_args(argv)
 
-    manifest = os.path.join(args.bench_dir, "manifest.json")
-    if not os.path.exists(manifest):
-        print("bench_3d: %s not found: skipped" % manifest)
-        return 0
-    with open(manifest) as f:
-        entries = json.load(f)
-    if isinstance(entries, dict):
-        entries = entries.get("models") or entries.get("entries") or []
-    if args.only:
-        unknown = set(args.only) - {e["name"] for e in entries}
-        if unknown:
-            print("bench_3d: unknown model(s): %s" % " ".join(sorted(unknown)), file=sys.stderr)
-            return 2
-        entries = [e for e in entries if e["name"] in set(args.only)]
+
+# The stderr line per model: (label, key, format, width) after its name and status.
+PROGRESS = [("IoU", "iou", "%.4f", 6), ("prims", "solver_primitives", None, 4),
+            ("wall", "wall_s", "%.1f", 6), ("InverseCSG IoU", "icsg_iou", "%.4f", 6),
+            ("prims", "icsg_primitives", None, 4)]
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    entries, status = benchlib.load_entries(args, PROG, ("models", "entries"), "model")
+    if entries is None:
+        return status
     if args.kind:
         entries = [e for e in entries if e["kind"] == args.kind]
-    if shutil.which("openscad") is None:
-        print("bench_3d: openscad not found (apt-get install openscad)", file=sys.stderr)
-        return 2
-    if not (os.path.isfile(args.cli) and os.access(args.cli, os.X_OK)):
-        print("bench_3d: CLI %s not found (build it, or pass --cli)" % args.cli,
-              file=sys.stderr)
+    if benchlib.missing_tool(PROG, "openscad") or benchlib.missing_cli(PROG, args.cli, "--cli"):
         return 2
     os.makedirs(args.out, exist_ok=True)
 
     # Three passes, so that OpenSCAD's renders (minutes for a big tree) never share the cores
     # with a timed fit: inputs, then every fit, then every render and score.
-    def guarded(fn, entry, *rest):
-        try:
-            return fn(entry, *rest, args)
-        except Exception as exc:  # a bad model must not abort the run
-            return {"name": entry["name"], "kind": entry["kind"], "status": "error",
-                    "scad_rendered": "no", "error": str(exc)}
+    def guarded(fn):
+        def run(pair):
+            entry, row = pair
+            if row is not None and "_mesh" not in row:
+                return row  # an earlier pass failed: nothing to go on with
+            try:
+                return fn(entry, *([] if row is None else [row]), args)
+            except Exception as exc:  # a bad model must not abort the run
+                return {"name": entry["name"], "kind": entry["kind"], "status": "error",
+                        "scad_rendered": "no", "error": str(exc)}
+        return run
 
     t_start = time.monotonic()
-    workers = max(1, args.jobs)
-    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        prepared = list(pool.map(lambda e: guarded(prepare_one, e), entries))
-    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        fitted = list(pool.map(lambda er: er[1] if "_mesh" not in er[1] else guarded(fit_one, *er),
-                               zip(entries, prepared)))
-    results = {}
-    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(lambda er: er[1] if "_mesh" not in er[1] else guarded(score_one, *er),
-                               (e, r)): e["name"] for e, r in zip(entries, fitted)}
-        for fut in concurrent.futures.as_completed(futures):
-            row = fut.result()
-            results[row["name"]] = row
-            print("%-28s %-13s IoU %-6s prims %-4s wall %-6s InverseCSG IoU %-6s prims %-4s %s" % (
-                row["name"], row["status"],
-                "%.4f" % row["iou"] if "iou" in row else "-",
-                row.get("solver_primitives", "-"),
-                "%.1f" % row["wall_s"] if "wall_s" in row else "-",
-                "%.4f" % row["icsg_iou"] if "icsg_iou" in row else "-",
-                row.get("icsg_primitives", "-"), row.get("error", "")),
-                file=sys.stderr, flush=True)
-    rows = [results[e["name"]] for e in entries]
-
-    csv_path = os.path.join(args.out, "results.csv")
-    with open(csv_path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=CSV_FIELDS, extrasaction="ignore")
-        writer.writeheader()
-        for r in rows:
-            writer.writerow({k: ("%.6g" % v if isinstance(v, float) else v)
-                             for k, v in r.items()})
-
-    text = report(rows, args)
-    print(text)
-    print("bench_3d: %d models in %.0f s; results in %s" % (
-        len(rows), time.monotonic() - t_start, csv_path), file=sys.stderr)
-    if args.write_doc:
-        write_doc(args.write_doc, text)
-        print("bench_3d: updated %s" % args.write_doc, file=sys.stderr)
+    rows = benchlib.run_all(guarded(prepare_one), [(e, None) for e in entries], args.jobs)
+    rows = benchlib.run_all(guarded(fit_one), list(zip(entries, rows)), args.jobs)
+    rows = benchlib.run_all(guarded(score_one), list(zip(entries, rows)), args.jobs,
+                            lambda row: benchlib.print_progress(row, 28, PROGRESS))
+    benchlib.finish(PROG, "3d", "models", rows, CSV_FIELDS, report(rows, args), args, t_start)
     return 1 if any(_failed(r) for r in rows) else 0
 
 

@@ -20,6 +20,7 @@ Only numpy is needed (python3-numpy); run with /usr/bin/python3.
 """
 
 import argparse
+import math
 import os
 import re
 import shutil
@@ -32,8 +33,9 @@ import zlib
 import numpy as np
 
 __all__ = [
-    "OpenScadError", "find_openscad", "render_svg", "parse_svg_paths", "rasterize_polygons",
-    "rasterize_scad", "read_mask", "write_pbm", "agreement",
+    "OpenScadError", "find_openscad", "render_svg", "parse_svg_path", "parse_svg_paths",
+    "rasterize_polygons", "rasterize_scad", "read_mask", "write_pbm", "agreement", "png_chunks",
+    "png_unfilter",
 ]
 
 
@@ -105,61 +107,107 @@ def render_svg(scad_path, thickness=None, timeout=300):
 
 
 _PATH_RE = re.compile(r'<path[^>]*?\sd="([^"]*)"', re.S)
-_TOKEN_RE = re.compile(r"[MmLlHhVvZz]|[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+PATH_TOKEN_RE = re.compile(r"[MmLlHhVvCcSsQqZz]|[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+PARAM_COUNT = {"M": 2, "L": 2, "H": 1, "V": 1, "C": 6, "S": 4, "Q": 4, "Z": 0}
+
+
+def _bezier_points(ctrl):
+    """Flattens one Bezier (3 or 4 control points) into points after the first one."""
+    ctrl = np.asarray(ctrl, dtype=np.float64)
+    length = np.sum(np.hypot(*np.diff(ctrl, axis=0).T))
+    n = int(min(256, max(8, math.ceil(length / 0.25))))  # <= 1/4 unit per chord
+    t = np.linspace(0.0, 1.0, n + 1)[1:, None]
+    if len(ctrl) == 3:
+        p0, p1, p2 = ctrl
+        return (1 - t) ** 2 * p0 + 2 * (1 - t) * t * p1 + t ** 2 * p2
+    p0, p1, p2, p3 = ctrl
+    return ((1 - t) ** 3 * p0 + 3 * (1 - t) ** 2 * t * p1 + 3 * (1 - t) * t ** 2 * p2
+            + t ** 3 * p3)
+
+
+def parse_svg_path(d):
+    """Path data -> list of closed polylines (N x 2 arrays, path coordinates).
+
+    Handles absolute and relative M L H V C S Q Z with implicit repetition, which covers what
+    OpenSCAD (M, L, z) and potrace (M, l, c, m, z) write."""
+    tokens = PATH_TOKEN_RE.findall(d)
+    polys, cur = [], []
+    x = y = 0.0
+    start = (0.0, 0.0)
+    last_ctrl = None
+    cmd = None
+    i = 0
+
+    def close():
+        nonlocal cur
+        if len(cur) >= 3:
+            polys.append(np.array(cur, dtype=np.float64))
+        cur = []
+
+    while i < len(tokens):
+        tok = tokens[i]
+        if tok.isalpha():
+            cmd = tok
+            i += 1
+            if cmd in "Zz":
+                close()
+                x, y = start
+                last_ctrl = None
+                continue
+        elif cmd is None:
+            raise ValueError("path data starts with a number")
+        n = PARAM_COUNT[cmd.upper()]
+        args = [float(t) for t in tokens[i:i + n]]
+        if len(args) < n:
+            raise ValueError("truncated path data")
+        i += n
+        rel = cmd.islower()
+        up = cmd.upper()
+        if up == "M":
+            close()
+            x, y = (x + args[0], y + args[1]) if rel else (args[0], args[1])
+            start = (x, y)
+            cur = [(x, y)]
+            cmd = "l" if rel else "L"  # implicit repetition after a moveto is a lineto
+            last_ctrl = None
+            continue
+        if not cur:
+            cur = [(x, y)]
+        if up in "LHV":
+            if up == "L":
+                nx, ny = (x + args[0], y + args[1]) if rel else (args[0], args[1])
+            elif up == "H":
+                nx, ny = (x + args[0] if rel else args[0]), y
+            else:
+                nx, ny = x, (y + args[0] if rel else args[0])
+            cur.append((nx, ny))
+            x, y = nx, ny
+            last_ctrl = None
+        else:
+            pts = [(args[k] + (x if rel else 0), args[k + 1] + (y if rel else 0))
+                   for k in range(0, n, 2)]
+            if up == "S":
+                refl = (2 * x - last_ctrl[0], 2 * y - last_ctrl[1]) if last_ctrl else (x, y)
+                pts = [refl] + pts
+            ctrl = [(x, y)] + pts
+            if up == "Q":
+                ctrl = ctrl[:3]
+            cur.extend(map(tuple, _bezier_points(ctrl)))
+            last_ctrl = ctrl[-2]
+            x, y = ctrl[-1]
+    close()
+    return polys
 
 
 def parse_svg_paths(svg_text):
     """Closed polygons (lists of (x, y) in model units, y up) from OpenSCAD's SVG output.
 
-    OpenSCAD 2021.01 writes one <path> of absolute M/L/z commands with y negated; relative
-    commands and H/V are accepted too for robustness.
+    OpenSCAD 2021.01 writes one <path> of absolute M/L/z commands with y negated; the other
+    commands of parse_svg_path are accepted too.
     """
     polygons = []
     for d in _PATH_RE.findall(svg_text):
-        tokens = _TOKEN_RE.findall(d)
-        cur = []
-        x = y = 0.0
-        cmd = None
-        i = 0
-        while i < len(tokens):
-            t = tokens[i]
-            if t.isalpha():
-                cmd = t
-                i += 1
-                if cmd in "Zz":
-                    if len(cur) >= 3:
-                        polygons.append(cur)
-                    cur = []
-                continue
-            if cmd is None:
-                raise ValueError("SVG path data starts with a number")
-            if cmd in "MmLl":
-                dx, dy = float(tokens[i]), float(tokens[i + 1])
-                i += 2
-                if cmd in "ml" and (cur or polygons):
-                    x, y = x + dx, y + dy
-                else:
-                    x, y = dx, dy
-                if cmd in "Mm":
-                    if len(cur) >= 3:
-                        polygons.append(cur)
-                    cur = []
-                    cmd = "L" if cmd == "M" else "l"  # implicit lineto after moveto
-                cur.append((x, y))
-            elif cmd in "Hh":
-                v = float(t)
-                i += 1
-                x = x + v if cmd == "h" else v
-                cur.append((x, y))
-            elif cmd in "Vv":
-                v = float(t)
-                i += 1
-                y = y + v if cmd == "v" else v
-                cur.append((x, y))
-            else:
-                raise ValueError("unsupported SVG path command %r" % cmd)
-        if len(cur) >= 3:
-            polygons.append(cur)
+        polygons += parse_svg_path(d)
     # SVG's y axis points down; OpenSCAD writes -y.
     return [[(px, -py) for (px, py) in poly] for poly in polygons]
 
@@ -200,38 +248,27 @@ def rasterize_scad(scad_path, width, height, pixel_size, thickness=None, timeout
 
 # ---- bitmaps ---------------------------------------------------------------------------------
 
-def _read_png(data):
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def png_chunks(data):
+    """(kind, body) of every chunk of a PNG file's bytes, up to and with IEND."""
+    if data[:8] != PNG_SIGNATURE:
         raise ValueError("not a PNG file")
     pos = 8
-    idat = []
-    header = None
-    palette = None
     while pos < len(data):
         length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        chunk = data[pos + 8:pos + 8 + length]
+        yield kind, data[pos + 8:pos + 8 + length]
+        if kind == b"IEND":
+            return
         pos += 12 + length
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", chunk)
-        elif kind == b"PLTE":
-            palette = np.frombuffer(chunk, dtype=np.uint8).reshape(-1, 3)
-        elif kind == b"IDAT":
-            idat.append(chunk)
-        elif kind == b"IEND":
-            break
-    if header is None:
-        raise ValueError("PNG without IHDR")
-    w, h, depth, colour, _, _, interlace = header
-    if interlace:
-        raise ValueError("interlaced PNG is not supported")
-    channels = {0: 1, 2: 3, 3: 1, 4: 2, 6: 4}[colour]
-    bits = depth * channels
-    stride = (w * bits + 7) // 8
-    bpp = max(1, bits // 8)
-    raw = zlib.decompress(b"".join(idat))
-    out = np.zeros((h, stride), dtype=np.uint8)
+
+
+def png_unfilter(raw, height, stride, bpp):
+    """Undoes the per-row filters of decompressed PNG data: (height, stride) uint8 bytes."""
+    out = np.zeros((height, stride), dtype=np.uint8)
     prev = np.zeros(stride, dtype=np.int32)
-    for r in range(h):
+    for r in range(height):
         f = raw[r * (stride + 1)]
         line = np.frombuffer(raw, dtype=np.uint8, count=stride, offset=r * (stride + 1) + 1)
         line = line.astype(np.int32)
@@ -239,7 +276,7 @@ def _read_png(data):
             cur = line
         elif f == 2:
             cur = (line + prev) & 0xFF
-        else:
+        else:  # Sub, Average, Paeth depend on the left neighbour: byte by byte
             cur = np.zeros(stride, dtype=np.int32)
             for i in range(stride):
                 a = cur[i - bpp] if i >= bpp else 0
@@ -257,6 +294,30 @@ def _read_png(data):
                 cur[i] = (line[i] + pred) & 0xFF
         out[r] = cur
         prev = cur
+    return out
+
+
+def _read_png(data):
+    idat = []
+    header = None
+    palette = None
+    for kind, chunk in png_chunks(data):
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", chunk)
+        elif kind == b"PLTE":
+            palette = np.frombuffer(chunk, dtype=np.uint8).reshape(-1, 3)
+        elif kind == b"IDAT":
+            idat.append(chunk)
+    if header is None:
+        raise ValueError("PNG without IHDR")
+    w, h, depth, colour, _, _, interlace = header
+    if interlace:
+        raise ValueError("interlaced PNG is not supported")
+    channels = {0: 1, 2: 3, 3: 1, 4: 2, 6: 4}[colour]
+    bits = depth * channels
+    stride = (w * bits + 7) // 8
+    bpp = max(1, bits // 8)
+    out = png_unfilter(zlib.decompress(b"".join(idat)), h, stride, bpp)
     if depth < 8:
         bitsarr = np.unpackbits(out, axis=1)[:, : w * depth]
         vals = bitsarr.reshape(h, w, depth).dot(1 << np.arange(depth - 1, -1, -1))
@@ -320,7 +381,7 @@ def read_mask(path, invert=False, threshold=128):
     images; `invert` makes light pixels the shape. Returns bool array (height, width)."""
     with open(path, "rb") as f:
         data = f.read()
-    if data[:8] == b"\x89PNG\r\n\x1a\n":
+    if data[:8] == PNG_SIGNATURE:
         grey, alpha = _read_png(data)
     elif data[:2] in (b"P1", b"P2", b"P4", b"P5"):
         grey, alpha = _read_pnm(data)

@@ -6,22 +6,14 @@
 #
 # usage: bash bad_input_test.sh <path-to-csgfit-cli> [source-dir]
 set -u
-
-cli=${1:?usage: bad_input_test.sh <csgfit-cli> [source-dir]}
-py=/usr/bin/python3
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/csgfit-bad-input-XXXXXX")
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-
-fail() {
-  echo "FAIL: $*" >&2
-  failures=$((failures + 1))
-}
+. "$(dirname "$0")/lib.sh"
+e2e_args 1 "$@"
+e2e_tmpdir
 
 # make_png PATH WIDTH HEIGHT PATTERN: an 8-bit grey PNG; PATTERN is black, white or half
 # (left half black, right half white).
 make_png() {
-  "$py" - "$@" <<'EOF'
+  "$PY" - "$@" <<'EOF'
 import struct, sys, zlib
 
 path, width, height, pattern = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
@@ -48,8 +40,8 @@ EOF
 expect_failure() {
   local name=$1 keyword=$2 output=$3
   shift 3
-  local err="$tmp/$name.stderr"
-  timeout 120 "$cli" "$@" >"$tmp/$name.stdout" 2>"$err"
+  local err="$TMP/$name.stderr"
+  timeout 120 "$CLI" "$@" >"$TMP/$name.stdout" 2>"$err"
   local rc=$?
   local lines
   lines=$(wc -l <"$err")
@@ -79,10 +71,10 @@ expect_failure() {
 expect_success() {
   local name=$1 output=$2
   shift 2
-  timeout 120 "$cli" "$@" >"$tmp/$name.stdout" 2>"$tmp/$name.stderr"
+  timeout 120 "$CLI" "$@" >"$TMP/$name.stdout" 2>"$TMP/$name.stderr"
   local rc=$?
   if [ "$rc" -ne 0 ]; then
-    fail "$name: exit status $rc: $(head -c 500 "$tmp/$name.stderr")"
+    fail "$name: exit status $rc: $(head -c 500 "$TMP/$name.stderr")"
     return 1
   fi
   if [ ! -s "$output" ]; then
@@ -92,61 +84,57 @@ expect_success() {
   echo "ok: $name"
 }
 
-out="$tmp/out.scad"
+out="$TMP/out.scad"
 
 # Missing, unreadable and non-image inputs.
-expect_failure missing "No such file" "$out" image "$tmp/missing.png" -o "$out" --time 1
+expect_failure missing "No such file" "$out" image "$TMP/missing.png" -o "$out" --time 1
 
-mkdir "$tmp/folder.png"
-expect_failure directory "directory" "$out" image "$tmp/folder.png" -o "$out" --time 1
+mkdir "$TMP/folder.png"
+expect_failure directory "directory" "$out" image "$TMP/folder.png" -o "$out" --time 1
 
-: >"$tmp/empty.png"
-expect_failure empty "empty" "$out" image "$tmp/empty.png" -o "$out" --time 1
+: >"$TMP/empty.png"
+expect_failure empty "empty" "$out" image "$TMP/empty.png" -o "$out" --time 1
 
-make_png "$tmp/full.png" 64 64 half
-size=$(stat -c %s "$tmp/full.png")
-head -c $((size / 2)) "$tmp/full.png" >"$tmp/truncated.png"
-expect_failure truncated_png "truncated" "$out" image "$tmp/truncated.png" -o "$out" --time 1
+make_png "$TMP/full.png" 64 64 half
+size=$(stat -c %s "$TMP/full.png")
+head -c $((size / 2)) "$TMP/full.png" >"$TMP/truncated.png"
+expect_failure truncated_png "truncated" "$out" image "$TMP/truncated.png" -o "$out" --time 1
 
-echo "this is a text file, not a picture" >"$tmp/notes.png"
-expect_failure text_as_png "not an image" "$out" image "$tmp/notes.png" -o "$out" --time 1
+echo "this is a text file, not a picture" >"$TMP/notes.png"
+expect_failure text_as_png "not an image" "$out" image "$TMP/notes.png" -o "$out" --time 1
 
 # A header that declares 100000 x 100000 pixels must be refused from the header alone.
-printf 'P5 100000 100000 255\n' >"$tmp/huge.pgm"
-expect_failure huge_header "over the limit" "$out" image "$tmp/huge.pgm" -o "$out" --time 1
+printf 'P5 100000 100000 255\n' >"$TMP/huge.pgm"
+expect_failure huge_header "over the limit" "$out" image "$TMP/huge.pgm" -o "$out" --time 1
 
 # Nothing to fit.
-make_png "$tmp/white.png" 16 16 white
-expect_failure all_white "no shape found" "$out" image "$tmp/white.png" -o "$out" --time 1
+make_png "$TMP/white.png" 16 16 white
+expect_failure all_white "no shape found" "$out" image "$TMP/white.png" -o "$out" --time 1
 
 # Over the default limit of 4096 x 4096 pixels: refused, then accepted with --max-size.
-make_png "$tmp/oversize.png" 4100 4100 half
-expect_failure oversize "over the limit" "$out" image "$tmp/oversize.png" -o "$out" --time 1
-if expect_success oversize_max_size "$out" image "$tmp/oversize.png" -o "$out" --time 1 \
+make_png "$TMP/oversize.png" 4100 4100 half
+expect_failure oversize "over the limit" "$out" image "$TMP/oversize.png" -o "$out" --time 1
+if expect_success oversize_max_size "$out" image "$TMP/oversize.png" -o "$out" --time 1 \
     --max-size 64; then
   grep -q 'square(' "$out" || fail "oversize_max_size: no rectangle in $out"
 fi
 rm -f "$out"
 
 # Bad options and outputs.
-make_png "$tmp/black.png" 16 16 black
-expect_failure unknown_option "bogus" "$out" image "$tmp/black.png" -o "$out" --time 1 --bogus
-expect_failure unknown_extension "unknown output format" "$tmp/out.xyz" \
-  image "$tmp/black.png" -o "$tmp/out.xyz" --time 1
-expect_failure missing_output_folder "cannot write" "$tmp/nowhere/out.scad" \
-  image "$tmp/black.png" -o "$tmp/nowhere/out.scad" --time 1
+make_png "$TMP/black.png" 16 16 black
+expect_failure unknown_option "bogus" "$out" image "$TMP/black.png" -o "$out" --time 1 --bogus
+expect_failure unknown_extension "unknown output format" "$TMP/out.xyz" \
+  image "$TMP/black.png" -o "$TMP/out.xyz" --time 1
+expect_failure missing_output_folder "cannot write" "$TMP/nowhere/out.scad" \
+  image "$TMP/black.png" -o "$TMP/nowhere/out.scad" --time 1
 
 # The positive edge case: an all-black image is exactly one rectangle.
-if expect_success all_black "$out" image "$tmp/black.png" -o "$out" --time 1; then
+if expect_success all_black "$out" image "$TMP/black.png" -o "$out" --time 1; then
   squares=$(grep -o 'square(' "$out" | wc -l)
   [ "$squares" -eq 1 ] || fail "all_black: expected exactly one square( in $out, found $squares"
 fi
-if compgen -G "$tmp/*.tmp-*" >/dev/null; then
-  fail "temporary files left behind: $(compgen -G "$tmp/*.tmp-*")"
+if compgen -G "$TMP/*.tmp-*" >/dev/null; then
+  fail "temporary files left behind: $(compgen -G "$TMP/*.tmp-*")"
 fi
 
-if [ "$failures" -ne 0 ]; then
-  echo "$failures check(s) failed" >&2
-  exit 1
-fi
-echo "all bad-input checks passed"
+e2e_finish "all bad-input checks passed"

@@ -5,10 +5,7 @@
 # Skips (exit 0) when the benchmark set is not there.
 # Usage: bash golden_test.sh <path-to-csgfit-cli> <source-dir>
 set -u
-cli=${1:?usage: golden_test.sh CLI SOURCE_DIR}
-src=${2:?usage: golden_test.sh CLI SOURCE_DIR}
-if [ ! -d "$src/../shared/benchmarks" ]; then
-  echo "golden: $src/../shared/benchmarks not found: skipped"
-  exit 0
-fi
-exec /usr/bin/python3 "$src/scripts/golden.py" check --cli "$cli" --jobs 2
+. "$(dirname "$0")/lib.sh"
+e2e_args 2 "$@"
+e2e_need_benchmarks
+exec "$PY" "$SRC/scripts/golden.py" check --cli "$CLI" --jobs 2

@@ -5,20 +5,12 @@
 #
 # usage: bash mesh_bad_input_test.sh <path-to-csgfit-cli> [source-dir]
 set -u
+. "$(dirname "$0")/lib.sh"
+e2e_args 1 "$@"
+e2e_tmpdir
+cd "$TMP" || exit 1
 
-cli=$(readlink -f "${1:?usage: mesh_bad_input_test.sh <csgfit-cli> [source-dir]}")
-py=/usr/bin/python3
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/csgfit-mesh-bad-XXXXXX")
-trap 'rm -rf "$tmp"' EXIT
-cd "$tmp" || exit 1
-failures=0
-
-fail() {
-  echo "FAIL: $*" >&2
-  failures=$((failures + 1))
-}
-
-"$py" - <<'EOF' || { echo "FAIL: could not write the fixtures" >&2; exit 1; }
+"$PY" - <<'EOF' || { echo "FAIL: could not write the fixtures" >&2; exit 1; }
 import struct
 
 V = [(x, y, z) for z in (0, 1) for y in (0, 1) for x in (0, 1)]
@@ -90,7 +82,7 @@ EOF
 check_bad() {
   local what=$1 input=$2 keyword=$3
   rm -f out.scad err.txt
-  "$cli" mesh "$input" -o out.scad --time 1 --threads 1 -q 2>err.txt >/dev/null
+  "$CLI" mesh "$input" -o out.scad --time 1 --threads 1 -q 2>err.txt >/dev/null
   local rc=$?
   [ $rc -eq 2 ] || fail "$what: exit status $rc, expected 2 ($(head -c 300 err.txt))"
   [ "$(wc -l <err.txt)" -eq 1 ] || fail "$what: expected one line on stderr, got: $(cat err.txt)"
@@ -123,15 +115,11 @@ done
 
 # An open mesh (a cube without its top) is fitted, with one warning line that says why.
 rm -f out.scad err.txt
-"$cli" mesh open.obj -o out.scad --time 1 --threads 1 2>err.txt >/dev/null
+"$CLI" mesh open.obj -o out.scad --time 1 --threads 1 2>err.txt >/dev/null
 rc=$?
 [ $rc -eq 0 ] || fail "open mesh: exit status $rc ($(head -c 300 err.txt))"
 [ -s out.scad ] || fail "open mesh: no .scad written"
 grep -q "warning: .*open: 4 boundary edges" err.txt || fail "open mesh: no warning in: $(cat err.txt)"
 [ "$(grep -c warning err.txt)" -eq 1 ] || fail "open mesh: expected one warning line: $(cat err.txt)"
 
-if [ $failures -ne 0 ]; then
-  echo "$failures failure(s)" >&2
-  exit 1
-fi
-echo "mesh bad input: all cases passed"
+e2e_finish "mesh bad input: all cases passed"

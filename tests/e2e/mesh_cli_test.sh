@@ -4,17 +4,13 @@
 # independently of the solver (scripts/stl_voxelize.py); then bad inputs.
 # Usage: mesh_cli_test.sh CSGFIT_CLI SOURCE_DIR
 set -u
-CLI=${1:?path to csgfit}
-SRC=${2:?source directory}
-PY=/usr/bin/python3
+. "$(dirname "$0")/lib.sh"
+e2e_args 2 "$@"
+# The first failure ends this test: each step works on the files of the one before.
 fail() { echo "FAIL: $*"; exit 1; }
-if ! command -v openscad >/dev/null 2>&1; then
-  echo "SKIP: openscad is not installed"
-  exit 0
-fi
-WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 1
+e2e_need_tools openscad
+e2e_tmpdir
+cd "$TMP" || exit 1
 
 # A 40 x 30 x 12 block with a through hole of radius 7, as a closed, outward-oriented mesh.
 $PY "$SRC/tests/fixtures/holed_block_stl.py" part.stl || fail "could not write the test mesh"
@@ -50,7 +46,7 @@ check_bad() {
   [ ! -e bad.scad ] || fail "$what: an output file was written"
   echo "$what: $(cat err.txt)"
 }
-check_bad "missing file" "$WORK/does_not_exist.stl"
+check_bad "missing file" "$TMP/does_not_exist.stl"
 : >empty.stl
 check_bad "empty file" empty.stl
 printf 'this is not an STL file at all\n\x01\x02\x03 garbage\n' >garbage.stl

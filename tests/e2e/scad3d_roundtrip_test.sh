@@ -9,31 +9,19 @@
 #
 # usage: bash scad3d_roundtrip_test.sh <path-to-csgfit-cli> <source-dir>
 set -u
-
-CLI=${1:?usage: scad3d_roundtrip_test.sh CSGFIT_CLI SOURCE_DIR}
-SRC=${2:?usage: scad3d_roundtrip_test.sh CSGFIT_CLI SOURCE_DIR}
-PY=/usr/bin/python3
+. "$(dirname "$0")/lib.sh"
+e2e_args 2 "$@"
 VOXELIZE="$SRC/scripts/stl_voxelize.py"
 TESTS="$(dirname "$CLI")/csgfit_tests"
 MIN_AGREEMENT=0.99
 MIN_IOU=0.98
 
-if ! command -v openscad >/dev/null 2>&1; then
-  echo "SKIP: openscad is not installed"
-  exit 0
-fi
+e2e_need_tools openscad
 if [ ! -x "$TESTS" ]; then
   echo "FAIL: the C++ test binary $TESTS (which writes the trees) is missing"
   exit 1
 fi
-
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-failures=0
-fail() {
-  echo "FAIL: $*"
-  failures=$((failures + 1))
-}
+e2e_tmpdir
 
 if ! CSGFIT_SCAD3D_DUMP="$TMP" "$TESTS" --gtest_filter='ScadWriter3DRoundTrip.*' >"$TMP/dump.log" 2>&1; then
   cat "$TMP/dump.log"
@@ -67,8 +55,4 @@ for scad in "$TMP"/tree_*.scad; do
 done
 [ "$count" -ge 12 ] || fail "expected 12 trees, found $count"
 
-if [ $failures -ne 0 ]; then
-  echo "$failures failure(s)"
-  exit 1
-fi
-echo "OK: $count 3D trees, OpenSCAD agrees with the solver's voxels on >= $MIN_AGREEMENT (IoU >= $MIN_IOU)"
+e2e_finish "OK: $count 3D trees, OpenSCAD agrees with the solver's voxels on >= $MIN_AGREEMENT (IoU >= $MIN_IOU)"

@@ -7,26 +7,12 @@
 #
 # usage: bash scad_roundtrip_test.sh <path-to-csgfit-cli> <source-dir>
 set -u
-
-CLI=${1:?usage: scad_roundtrip_test.sh CSGFIT_CLI SOURCE_DIR}
-SRC=${2:?usage: scad_roundtrip_test.sh CSGFIT_CLI SOURCE_DIR}
-PY=/usr/bin/python3
+. "$(dirname "$0")/lib.sh"
+e2e_args 2 "$@"
 RASTER="$SRC/scripts/scad_raster.py"
 MIN=0.995
-
-if ! command -v openscad >/dev/null 2>&1; then
-  echo "SKIP: openscad is not installed"
-  exit 0
-fi
-
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-failures=0
-
-fail() {
-  echo "FAIL: $*"
-  failures=$((failures + 1))
-}
+e2e_need_tools openscad
+e2e_tmpdir
 
 # The hand-made tree of the brief: (rect - circle) + rotated ellipse + triangle +
 # (circle & rotated rect), with a nested union, on a 96 x 80 canvas at 0.5 mm per pixel.
@@ -136,8 +122,4 @@ rc=$?
 [ ! -e "$TMP/bad.scad" ] || fail "bad.json: a .scad was written anyway"
 echo "bad input: $(cat "$TMP/bad.err")"
 
-if [ $failures -ne 0 ]; then
-  echo "$failures failure(s)"
-  exit 1
-fi
-echo "OK: OpenSCAD round trip agrees on >= $MIN of the pixels"
+e2e_finish "OK: OpenSCAD round trip agrees on >= $MIN of the pixels"

@@ -6,17 +6,14 @@
 # (two fits under a time limit need not give the same tree).
 # Usage: step_export_test.sh CSGFIT_CLI SOURCE_DIR
 set -u
-CLI=${1:?path to csgfit}
-SRC=${2:?source directory}
-PY=/usr/bin/python3
+. "$(dirname "$0")/lib.sh"
+e2e_args 2 "$@"
+# The first failure ends this test: each step works on the files of the one before.
 fail() { echo "FAIL: $*"; exit 1; }
-for tool in openscad; do
-  command -v $tool >/dev/null 2>&1 || { echo "SKIP: $tool is not installed"; exit 0; }
-done
-[ -d /usr/lib/freecad-python3/lib ] || { echo "SKIP: FreeCAD is not installed"; exit 0; }
-WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
-cd "$WORK" || exit 1
+e2e_need_tools openscad
+[ -d /usr/lib/freecad-python3/lib ] || e2e_skip "SKIP: FreeCAD is not installed"
+e2e_tmpdir
+cd "$TMP" || exit 1
 
 # FreeCAD reads the STEP; the OpenSCAD STL's volume is summed from its facets (divergence
 # theorem), and its pieces are its facets connected through shared vertices. The STEP must be
@@ -106,7 +103,7 @@ check_model() {
   $PY compare.py "$label.step" "$label.stl" "$label" || fail "$label: STEP check failed"
 }
 check_model part part.stl
-MODEL011=/work/shared/benchmarks/3d/inversecsg/011/csg_high_res.off
+MODEL011="$SRC/../shared/benchmarks/3d/inversecsg/011/csg_high_res.off"
 if [ -f "$MODEL011" ]; then
   check_model model011 "$MODEL011"
 else
@@ -145,8 +142,8 @@ check_bad() {
   [ ! -e "$out" ] || fail "$what: an output file was written"
   echo "$what: $(cat err.txt)"
 }
-check_bad "unwritable path" "$WORK/no/such/dir/x.step" "does not exist" \
-  "$CLI" mesh part.stl -o "$WORK/no/such/dir/x.step" --time 1 -q
+check_bad "unwritable path" "$TMP/no/such/dir/x.step" "does not exist" \
+  "$CLI" mesh part.stl -o "$TMP/no/such/dir/x.step" --time 1 -q
 START=$(date +%s)
 check_bad "2D without thickness" flat.step "STEP needs a thickness" \
   "$CLI" image "$SRC/examples/bracket.png" -o flat.step --time 30 -q
