@@ -32,7 +32,7 @@ TEST(Fit3D, RecoversABoxWithAHole) {
   FitOptions3D opt;
   // Ended by convergence, not the clock: a sanitizer build is several times slower.
   opt.time_limit = 120;
-  opt.max_stale = 40;
+  opt.search.max_stale = 40;
   opt.threads = 1;
   opt.k = 60;
   const FitResult3D r = fit_voxels(target, opt);
@@ -53,7 +53,7 @@ TEST(Fit3D, SameSeedSameTreeWhenConverged) {
   FitOptions3D opt;
   opt.time_limit = 60;
   opt.threads = 2;
-  opt.max_stale = 16;
+  opt.search.max_stale = 16;
   const FitResult3D a = fit_voxels(target, opt);
   const FitResult3D b = fit_voxels(target, opt);
   ASSERT_EQ(a.stats.stop_reason, "converged");

@@ -249,7 +249,7 @@ TEST(FitMesh, ATurnedBlockIsOneBoxInItsOwnFrame) {
   FitOptions3D options;
   options.time_limit = 60;
   options.threads = 1;
-  options.max_stale = 200;
+  options.search.max_stale = 200;
   const MeshFitResult r = fit_mesh(block, options);
   EXPECT_LT(frame_difference_deg(r.frame, q), 0.01);
   EXPECT_EQ(r.fit.tree.primitive_count(), 1u);

@@ -154,7 +154,45 @@ void render_into(const NodeT& n, GridT& out) {
   }
 }
 
+template <typename NodeT>
+bool erase_at(NodeT& node, std::size_t target, std::size_t& counter) {
+  ++counter;
+  for (std::size_t c = 0; c < node.children.size(); ++c) {
+    if (counter == target) {
+      node.children.erase(node.children.begin() + static_cast<std::ptrdiff_t>(c));
+      return true;
+    }
+    if (erase_at(node.children[c], target, counter)) return true;
+  }
+  return false;
+}
+
+template <typename NodeT, typename PrimT>
+bool erase_leaf_below(NodeT& n, const PrimT* leaf) {
+  for (std::size_t c = 0; c < n.children.size(); ++c) {
+    NodeT& ch = n.children[c];
+    if (ch.is_leaf() && &ch.primitive == leaf) {
+      if (n.kind == NodeKind::Difference && c == 0)
+        n.children.clear();  // the difference loses its base: the whole node goes
+      else
+        n.children.erase(n.children.begin() + static_cast<std::ptrdiff_t>(c));
+      return true;
+    }
+    if (!ch.is_leaf() && erase_leaf_below(ch, leaf)) return true;
+  }
+  return false;
+}
+
 }  // namespace tree_walk
+
+template <typename P>
+bool erase_subtree(CsgNode<P>& root, std::size_t preorder_index) {
+  std::size_t counter = 0;
+  return tree_walk::erase_at(root, preorder_index, counter);
+}
+
+template <typename P>
+bool erase_leaf(CsgNode<P>& root, const P* leaf) { return tree_walk::erase_leaf_below(root, leaf); }
 
 template <typename P>
 std::size_t CsgNode<P>::primitive_count() const { return tree_walk::primitive_count(*this); }
@@ -215,4 +253,6 @@ std::string structure_string(const CsgNode<P>& root) {
   template std::vector<P*> leaves<P>(CsgNode<P>&);                                           \
   template std::vector<const P*> leaves<P>(const CsgNode<P>&);                               \
   template bool simplify<P>(CsgNode<P>&);                                                    \
+  template bool erase_subtree<P>(CsgNode<P>&, std::size_t);                                  \
+  template bool erase_leaf<P>(CsgNode<P>&, const P*);                                        \
   template std::string structure_string<P>(const CsgNode<P>&)

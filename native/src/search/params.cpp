@@ -20,6 +20,19 @@ SearchParams SearchParams::paper() {
   return p;
 }
 
+SearchParams SearchParams::for_3d() {
+  SearchParams p;
+  p.max_trees = 1 << 30;
+  p.max_stale = 600;
+  p.refocus_interval = 0;
+  p.generation = 4;
+  p.migration = Migration::BestToStuckest;
+  p.accept_margin = 1e-9;
+  // ADD matches a primitive to what the tree gets wrong, so it does most of the work.
+  p.odds = OperatorOdds{0.15, 0.47, 0.2, 0.15, 0.03};
+  return p;
+}
+
 SearchParams SearchParams::for_quality(const std::string& name) {
   if (name == "paper") return paper();
   SearchParams p;

@@ -77,6 +77,25 @@ std::vector<const P*> leaves(const CsgNode<P>& root);
 template <typename P>
 bool simplify(CsgNode<P>& root);
 
+/// Removes the subtree with the given pre-order index (> 0: not the root) from its parent;
+/// false when there is no such node. What is left may need simplify().
+template <typename P>
+bool erase_subtree(CsgNode<P>& root, std::size_t preorder_index);
+
+/// Removes the leaf whose primitive is `*leaf` (by address) from its parent; a difference that
+/// loses its first operand loses them all. False when the leaf is not in the tree. What is
+/// left may need simplify().
+template <typename P>
+bool erase_leaf(CsgNode<P>& root, const P* leaf);
+
+/// Replaces `at` (a node of some tree) with `kind(old at, subtree)`: how the searches graft a
+/// new subtree onto a tree.
+template <typename P>
+void graft(CsgNode<P>& at, NodeKind kind, CsgNode<P> subtree) {
+  CsgNode<P> old = std::move(at);
+  at = CsgNode<P>::op(kind, {std::move(old), std::move(subtree)});
+}
+
 /// A one-line text form for logs and tests, e.g. "difference(box, union(cylinder, sphere))".
 template <typename P>
 std::string structure_string(const CsgNode<P>& root);

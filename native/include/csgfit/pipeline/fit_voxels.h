@@ -10,6 +10,7 @@
 #include "csgfit/model/primitive3d.h"
 #include "csgfit/model/tree3d.h"
 #include "csgfit/model/voxel_grid.h"
+#include "csgfit/search/params.h"
 #include "csgfit/search/stats.h"
 
 namespace csgfit {
@@ -21,7 +22,7 @@ struct FitOptions3D {
   double time_limit = 10;      ///< seconds of wall time for the whole fit
   int threads = 0;             ///< 0 = all cores
   std::uint64_t seed = 1;
-  int max_stale = 600;         ///< perturbations without improvement before "converged"
+  SearchParams search = SearchParams::for_3d();  ///< islands, odds, convergence (max_stale)
 };
 
 /// k for a grid: 200 voxels per primitive per million voxels of the grid (the target's whole

@@ -1,0 +1,73 @@
+// Internal to search/: the 2D search's candidate trees and perturbations (seed 000's REP, ADD,
+// CUT, MOD), for the island driver (islands.h).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "csgfit/eval/mismatch.h"
+#include "csgfit/features/features2d.h"
+#include "csgfit/model/bitmap.h"
+#include "csgfit/model/tree2d.h"
+#include "csgfit/refine/local_opt.h"
+#include "csgfit/search/params.h"
+#include "model/random.h"
+
+namespace csgfit {
+
+struct Candidate2D {
+  Node tree;
+  Mismatch mismatch;
+  std::size_t primitives = 0;
+  double score = 0;
+};
+
+/// Everything one 2D search shares between its islands (read-only while they run).
+struct Problem2D {
+  const Bitmap* target = nullptr;
+  double k = 25;
+  SearchParams params;
+  std::vector<PrimitiveKind> kinds;
+  std::vector<DistancePeak> shape_peaks;       // of the target: where ADD puts unions
+  std::vector<DistancePeak> background_peaks;  // of the complement: where ADD puts cuts
+  LocalOptOptions new_leaf_opt, all_leaf_opt;
+};
+
+/// One island's perturbations and their random numbers.
+class Operators2D {
+ public:
+  using Candidate = Candidate2D;
+
+  Operators2D(const Problem2D& problem, std::uint64_t seed) : pb_(problem), rng_(seed) {}
+
+  std::size_t trees = 0;        ///< perturbations made
+  std::size_t evaluations = 0;  ///< tree evaluations they cost
+
+  rnd::Rng& rng() { return rng_; }
+
+  /// Scores a tree after optimising the leaves equal to one of `fresh`, then all leaves a
+  /// little, and pruning it.
+  Candidate evaluate(Node tree, const std::vector<Primitive>& fresh);
+  /// A child of `parent`: one perturbation drawn by the odds, then evaluate().
+  Candidate perturb(const Candidate& parent);
+  /// Nothing to do: evaluate() already pruned the child.
+  void accept(Candidate&) {}
+  /// Seed 000's random subtree of `count` primitives: uniform positions in the middle half,
+  /// random operators.
+  Node random_subtree(int count, std::vector<Primitive>& fresh);
+
+ private:
+  Primitive random_primitive(double cx, double cy, double size);
+  // REP: the subtree at a random node (of the n the tree had) replaced by a random one.
+  void rep(Node& tree, std::size_t n, std::vector<Primitive>& fresh);
+  // ADD: a small subtree at maxima of a distance map, unioned with or cut from a subtree.
+  bool add(Node& tree, std::vector<Primitive>& fresh);
+  // MOD: one primitive becomes another kind in the same place.
+  bool mod(Node& tree, std::vector<Primitive>& fresh);
+
+  const Problem2D& pb_;
+  rnd::Rng rng_;
+};
+
+}  // namespace csgfit

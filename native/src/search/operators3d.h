@@ -1,0 +1,74 @@
+// Internal to search/: the 3D search's candidate trees and perturbations (REP, ADD at the
+// residual, CUT, MOD, INT), for the island driver (islands.h).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "csgfit/eval/mismatch.h"
+#include "csgfit/model/primitive3d.h"
+#include "csgfit/model/tree3d.h"
+#include "csgfit/model/voxel_grid.h"
+#include "csgfit/refine/local_opt.h"
+#include "csgfit/search/params.h"
+#include "model/random.h"
+
+namespace csgfit {
+
+struct Candidate3D {
+  Node3D tree;
+  Mismatch mismatch;
+  std::size_t primitives = 0;
+  double score = std::numeric_limits<double>::infinity();
+  VoxelGrid result;  // the tree's voxels, for the residual
+};
+
+/// Everything one 3D search shares between its islands (read-only while they run).
+struct Problem3D {
+  const VoxelGrid* target = nullptr;
+  double k = 100;
+  SearchParams params;
+  std::vector<PrimitiveKind3D> kinds;
+  PrimitiveSet3D primitives;
+  LocalOptOptions new_leaf_opt, all_leaf_opt;
+  // Round primitives matched to the whole target: what INT intersects a tree with to trim its
+  // outline (a cube intersected with a sphere, a plate with a cylinder).
+  std::vector<Primitive3D> hulls;
+};
+
+/// One island's perturbations and their random numbers.
+class Operators3D {
+ public:
+  using Candidate = Candidate3D;
+
+  Operators3D(const Problem3D& problem, std::uint64_t seed) : pb_(problem), rng_(seed) {}
+
+  std::size_t trees = 0;        ///< perturbations made
+  std::size_t evaluations = 0;  ///< tree evaluations they cost
+
+  rnd::Rng& rng() { return rng_; }
+
+  /// Optimises the fresh leaves (all leaves when polish_all) and scores the tree. Pruning is
+  /// left to accept(): most perturbations are rejected, and for those it would be wasted.
+  Candidate evaluate(Node3D tree, const std::vector<Primitive3D>& fresh, bool polish_all);
+  /// A child of `parent`: one perturbation drawn by the odds, then evaluate().
+  Candidate perturb(const Candidate& parent);
+  /// Prunes an accepted tree and rescores it.
+  void accept(Candidate& c);
+
+ private:
+  // ADD at the residual: the thick part of what the tree gets wrong, matched by seed 003's
+  // matcher, unioned with or cut from a subtree.
+  bool add(Node3D& tree, const VoxelGrid& raster, std::vector<Primitive3D>& fresh);
+  // MOD (same place and size, another kind) or REP (another kind, a new orientation).
+  bool change_kind(Node3D& tree, std::vector<Primitive3D>& fresh, bool new_orientation);
+  // INT: the tree (or a subtree) intersected with a round primitive matched to the target.
+  bool intersect(Node3D& tree, std::vector<Primitive3D>& fresh);
+
+  const Problem3D& pb_;
+  rnd::Rng rng_;
+};
+
+}  // namespace csgfit
