@@ -6,9 +6,15 @@
 #include <stdexcept>
 #include <string>
 
+#include "model/interval.h"
+
 namespace csgfit {
 
 namespace {
+
+using interval::clip_halfline;
+using interval::clip_linear;
+using interval::Interval;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
@@ -17,38 +23,6 @@ constexpr double kDegToRad = kPi / 180.0;
 constexpr double kMinSize = 0.25;
 // A general triangle with its apex further out than this is a sliver no designer would draw.
 constexpr double kMaxApex = 4.0;
-
-struct Interval {
-  double lo = -std::numeric_limits<double>::infinity();
-  double hi = std::numeric_limits<double>::infinity();
-  bool empty() const { return !(lo <= hi); }
-};
-
-// Narrows `iv` to the x where lo <= a*x + b <= hi.
-inline void clip_linear(Interval& iv, double a, double b, double lo, double hi) {
-  if (std::fabs(a) < 1e-12) {
-    if (b < lo || b > hi) iv.lo = 1, iv.hi = 0;
-    return;
-  }
-  double x0 = (lo - b) / a;
-  double x1 = (hi - b) / a;
-  if (x0 > x1) std::swap(x0, x1);
-  iv.lo = std::max(iv.lo, x0);
-  iv.hi = std::min(iv.hi, x1);
-}
-
-// Narrows `iv` to the x where a*x + b >= 0.
-inline void clip_halfplane(Interval& iv, double a, double b) {
-  if (std::fabs(a) < 1e-12) {
-    if (b < 0) iv.lo = 1, iv.hi = 0;
-    return;
-  }
-  const double x = -b / a;
-  if (a > 0)
-    iv.lo = std::max(iv.lo, x);
-  else
-    iv.hi = std::min(iv.hi, x);
-}
 
 // What scan conversion needs of a primitive, computed once rather than once per row.
 struct SpanSetup {
@@ -91,7 +65,7 @@ Interval span_at(const SpanSetup& q, double y) {
         const auto& b = q.t[(i + 1) % 3];
         // cross(b - a, q - a) >= 0 for q = (x, y): linear in x.
         const double ex = b[0] - a[0], ey = b[1] - a[1];
-        clip_halfplane(iv, -ey, ex * (y - a[1]) + ey * a[0]);
+        clip_halfline(iv, -ey, ex * (y - a[1]) + ey * a[0]);
       }
       return iv;
     }
