@@ -308,18 +308,19 @@ double winding_number(const TriangleMesh& mesh, const std::array<double, 3>& p) 
   return sum / (4 * kPi);
 }
 
-VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, VoxelizeStats* stats) {
-  const auto start = std::chrono::steady_clock::now();
-  check_mesh(input);
-  TriangleMesh mesh;
-  mesh.vertices = input.vertices;
-  mesh.triangles = input.triangles;
-  VoxelizeStats st;
-  st.orientation_flips = repair_orientation(mesh);
-  weld_vertices(mesh);
-  st.orientation_flips += flip_inverted_pieces(mesh, options.winding_budget);
+namespace {
 
-  // Grid placement: the bounding box centred in whole voxels plus the margin.
+// Where the voxel centres are: the mesh's bounding box centred in whole voxels, plus the
+// margin, moved by the lattice shift.
+struct Lattice {
+  int n[3];
+  double origin[3];
+  double h;
+  std::size_t stride[3];  // of a voxel's index in the vote array, x fastest
+  std::size_t voxels;
+};
+
+Lattice place_lattice(const TriangleMesh& mesh, const VoxelizeOptions& options) {
   std::array<double, 3> lo{}, hi{};
   bool first = true;
   for (const auto& t : mesh.triangles) {
@@ -339,16 +340,16 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
   }
   if (!(options.lattice_shift >= 0 && options.lattice_shift < 1))
     throw InputError("lattice shift " + std::to_string(options.lattice_shift) + " is outside [0, 1)");
-  double h = options.voxel_size;
-  if (!(h > 0)) {
+  Lattice g;
+  g.h = options.voxel_size;
+  if (!(g.h > 0)) {
     if (options.resolution < 1) {
       throw InputError("voxel resolution " + std::to_string(options.resolution) + " must be at least 1");
     }
-    h = longest / options.resolution;
+    g.h = longest / options.resolution;
   }
+  const double h = g.h;
   if (!std::isfinite(h)) throw InputError("voxel size is not a finite number");
-  int n[3];
-  double origin[3];
   double total = 1;
   for (int a = 0; a < 3; ++a) {
     const double cells = std::ceil((hi[a] - lo[a]) / h - 1e-9);
@@ -358,103 +359,122 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
       throw InputError("a voxel size of " + std::to_string(h) + " gives more than " +
                        std::to_string(options.max_voxels) + " voxels for this mesh (the limit)");
     }
-    n[a] = static_cast<int>(count);
-    origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * n[a] * h + options.lattice_shift * h;
+    g.n[a] = static_cast<int>(count);
+    g.origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * g.n[a] * h + options.lattice_shift * h;
   }
-  const std::size_t voxels = static_cast<std::size_t>(n[0]) * n[1] * n[2];
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(n[0]),
-                                 static_cast<std::size_t>(n[0]) * n[1]};
-  std::vector<std::uint8_t> votes(voxels, 0);
+  g.voxels = static_cast<std::size_t>(g.n[0]) * g.n[1] * g.n[2];
+  g.stride[0] = 1;
+  g.stride[1] = static_cast<std::size_t>(g.n[0]);
+  g.stride[2] = static_cast<std::size_t>(g.n[0]) * g.n[1];
+  return g;
+}
 
-  std::vector<Crossing> crossings;
-  for (int a = 0; a < 3; ++a) {
-    const int ua = (a + 1) % 3, va = (a + 2) % 3;  // (u, v, a) is right-handed
-    const bool v_major = va < ua;                   // v is x for the y rays
-    const int nu = n[ua], nvv = n[va];
-    crossings.clear();
-    for (const auto& t : mesh.triangles) {
-      const auto& A = mesh.vertices[t[0]];
-      const auto& B = mesh.vertices[t[1]];
-      const auto& C = mesh.vertices[t[2]];
-      const P2 p0{A[ua], A[va]}, p1{B[ua], B[va]}, p2{C[ua], C[va]};
-      // Where the crossing lies exactly at a sample's coordinate, the perturbed sample is past
-      // it if its own shift along the ray outweighs the shift of the crossing, which moves
-      // with the sample's (u, v) shift by -(n_u du + n_v dv) / n_a along the plane.
-      bool tie_left = true;
-      {
-        const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
-        const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
-        const double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                               e1[0] * e2[1] - e1[1] * e2[0]};
-        // Axes in order of decreasing shift: x, y, z. Before the ray's own axis, a non-zero
-        // normal component decides; the ray's own axis shift (+) means "crossing before".
-        for (int axis = 0; axis < 3; ++axis) {
-          if (axis == a) break;
-          if (nrm[axis] != 0) {
-            tie_left = (nrm[axis] / nrm[a]) > 0;  // crossing moves by -(n_axis / n_a) * shift
-            break;
-          }
-        }
-      }
-      const double umin = std::min({p0.u, p1.u, p2.u}), umax = std::max({p0.u, p1.u, p2.u});
-      const double vmin = std::min({p0.v, p1.v, p2.v}), vmax = std::max({p0.v, p1.v, p2.v});
-      // Rows whose centre may lie in the projected bounding box, one extra on each side so
-      // that rounding here can never drop a row the exact edge test would accept.
-      const int iu0 = std::max(0, static_cast<int>(std::floor((umin - origin[ua]) / h - 0.5)));
-      const int iu1 = std::min(nu - 1, static_cast<int>(std::ceil((umax - origin[ua]) / h - 0.5)));
-      const int iv0 = std::max(0, static_cast<int>(std::floor((vmin - origin[va]) / h - 0.5)));
-      const int iv1 = std::min(nvv - 1, static_cast<int>(std::ceil((vmax - origin[va]) / h - 0.5)));
-      for (int iv = iv0; iv <= iv1; ++iv) {
-        const double cv = origin[va] + (iv + 0.5) * h;
-        for (int iu = iu0; iu <= iu1; ++iu) {
-          const P2 c{origin[ua] + (iu + 0.5) * h, cv};
-          double w0, w1, w2;
-          const int s0 = edge_sign(p1, p2, c, v_major, &w0);
-          const int s1 = edge_sign(p2, p0, c, v_major, &w1);
-          const int s2 = edge_sign(p0, p1, c, v_major, &w2);
-          if (s0 == 0 || s0 != s1 || s1 != s2) continue;
-          const double wsum = w0 + w1 + w2;
-          if (wsum == 0) continue;  // degenerate in projection
-          double depth = (w0 * A[a] + w1 * B[a] + w2 * C[a]) / wsum;
-          // Rounding can put the depth a hair outside the triangle's own range.
-          depth = std::clamp(depth, std::min({A[a], B[a], C[a]}), std::max({A[a], B[a], C[a]}));
-          // Counter-clockwise in (u, v) means the normal points along +a: the ray leaves.
-          crossings.push_back({depth, static_cast<std::uint32_t>(iv * nu + iu),
-                               static_cast<std::int16_t>(s0 > 0 ? -1 : 1), tie_left});
+// Where the rays along axis a through the voxel centres cross the mesh's triangles, with the
+// direction of each crossing (into or out of the solid).
+void collect_crossings(const TriangleMesh& mesh, const Lattice& g, int a,
+                       std::vector<Crossing>& crossings) {
+  const double h = g.h;
+  const int ua = (a + 1) % 3, va = (a + 2) % 3;  // (u, v, a) is right-handed
+  const bool v_major = va < ua;                   // v is x for the y rays
+  const int nu = g.n[ua], nvv = g.n[va];
+  crossings.clear();
+  for (const auto& t : mesh.triangles) {
+    const auto& A = mesh.vertices[t[0]];
+    const auto& B = mesh.vertices[t[1]];
+    const auto& C = mesh.vertices[t[2]];
+    const P2 p0{A[ua], A[va]}, p1{B[ua], B[va]}, p2{C[ua], C[va]};
+    // Where the crossing lies exactly at a sample's coordinate, the perturbed sample is past
+    // it if its own shift along the ray outweighs the shift of the crossing, which moves
+    // with the sample's (u, v) shift by -(n_u du + n_v dv) / n_a along the plane.
+    bool tie_left = true;
+    {
+      const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+      const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+      const double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                             e1[0] * e2[1] - e1[1] * e2[0]};
+      // Axes in order of decreasing shift: x, y, z. Before the ray's own axis, a non-zero
+      // normal component decides; the ray's own axis shift (+) means "crossing before".
+      for (int axis = 0; axis < 3; ++axis) {
+        if (axis == a) break;
+        if (nrm[axis] != 0) {
+          tie_left = (nrm[axis] / nrm[a]) > 0;  // crossing moves by -(n_axis / n_a) * shift
+          break;
         }
       }
     }
-    std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) {
-      if (x.row != y.row) return x.row < y.row;
-      if (x.t != y.t) return x.t < y.t;
-      return x.tie_left > y.tie_left;
-    });
-    const int na = n[a];
-    for (std::size_t i = 0; i < crossings.size();) {
-      std::size_t j = i;
-      int total_sign = 0;
-      while (j < crossings.size() && crossings[j].row == crossings[i].row) {
-        total_sign += crossings[j].sign;
-        ++j;
+    const double umin = std::min({p0.u, p1.u, p2.u}), umax = std::max({p0.u, p1.u, p2.u});
+    const double vmin = std::min({p0.v, p1.v, p2.v}), vmax = std::max({p0.v, p1.v, p2.v});
+    // Rows whose centre may lie in the projected bounding box, one extra on each side so
+    // that rounding here can never drop a row the exact edge test would accept.
+    const int iu0 = std::max(0, static_cast<int>(std::floor((umin - g.origin[ua]) / h - 0.5)));
+    const int iu1 = std::min(nu - 1, static_cast<int>(std::ceil((umax - g.origin[ua]) / h - 0.5)));
+    const int iv0 = std::max(0, static_cast<int>(std::floor((vmin - g.origin[va]) / h - 0.5)));
+    const int iv1 = std::min(nvv - 1, static_cast<int>(std::ceil((vmax - g.origin[va]) / h - 0.5)));
+    for (int iv = iv0; iv <= iv1; ++iv) {
+      const double cv = g.origin[va] + (iv + 0.5) * h;
+      for (int iu = iu0; iu <= iu1; ++iu) {
+        const P2 c{g.origin[ua] + (iu + 0.5) * h, cv};
+        double w0, w1, w2;
+        const int s0 = edge_sign(p1, p2, c, v_major, &w0);
+        const int s1 = edge_sign(p2, p0, c, v_major, &w1);
+        const int s2 = edge_sign(p0, p1, c, v_major, &w2);
+        if (s0 == 0 || s0 != s1 || s1 != s2) continue;
+        const double wsum = w0 + w1 + w2;
+        if (wsum == 0) continue;  // degenerate in projection
+        double depth = (w0 * A[a] + w1 * B[a] + w2 * C[a]) / wsum;
+        // Rounding can put the depth a hair outside the triangle's own range.
+        depth = std::clamp(depth, std::min({A[a], B[a], C[a]}), std::max({A[a], B[a], C[a]}));
+        // Counter-clockwise in (u, v) means the normal points along +a: the ray leaves.
+        crossings.push_back({depth, static_cast<std::uint32_t>(iv * nu + iu),
+                             static_cast<std::int16_t>(s0 > 0 ? -1 : 1), tie_left});
       }
-      const int iu = static_cast<int>(crossings[i].row % static_cast<std::uint32_t>(nu));
-      const int iv = static_cast<int>(crossings[i].row / static_cast<std::uint32_t>(nu));
-      std::size_t base = static_cast<std::size_t>(iu) * stride[ua] + static_cast<std::size_t>(iv) * stride[va];
-      int left = 0;  // winding number from -inf up to the current centre
-      std::size_t k = i;
-      for (int m = 0; m < na; ++m, base += stride[a]) {
-        const double centre = origin[a] + (m + 0.5) * h;
-        while (k < j && (crossings[k].t < centre || (crossings[k].t == centre && crossings[k].tie_left))) {
-          left += crossings[k++].sign;
-        }
-        const int right = left - total_sign;  // winding number from +inf
-        votes[base] = static_cast<std::uint8_t>(votes[base] + (left != 0) + (right != 0));
-      }
-      i = j;
     }
   }
+}
 
-  // Split votes: count them, then decide by the winding number if the budget allows.
+// Each voxel's votes from the rays along axis a (from -inf and from +inf): a ray's winding
+// number at the centre is non-zero when the centre is inside.
+void count_votes(std::vector<Crossing>& crossings, const Lattice& g, int a,
+                 std::vector<std::uint8_t>& votes) {
+  const double h = g.h;
+  const int ua = (a + 1) % 3, va = (a + 2) % 3;
+  const int nu = g.n[ua];
+  std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) {
+    if (x.row != y.row) return x.row < y.row;
+    if (x.t != y.t) return x.t < y.t;
+    return x.tie_left > y.tie_left;
+  });
+  const int na = g.n[a];
+  for (std::size_t i = 0; i < crossings.size();) {
+    std::size_t j = i;
+    int total_sign = 0;
+    while (j < crossings.size() && crossings[j].row == crossings[i].row) {
+      total_sign += crossings[j].sign;
+      ++j;
+    }
+    const int iu = static_cast<int>(crossings[i].row % static_cast<std::uint32_t>(nu));
+    const int iv = static_cast<int>(crossings[i].row / static_cast<std::uint32_t>(nu));
+    std::size_t base = static_cast<std::size_t>(iu) * g.stride[ua] + static_cast<std::size_t>(iv) * g.stride[va];
+    int left = 0;  // winding number from -inf up to the current centre
+    std::size_t k = i;
+    for (int m = 0; m < na; ++m, base += g.stride[a]) {
+      const double centre = g.origin[a] + (m + 0.5) * h;
+      while (k < j && (crossings[k].t < centre || (crossings[k].t == centre && crossings[k].tie_left))) {
+        left += crossings[k++].sign;
+      }
+      const int right = left - total_sign;  // winding number from +inf
+      votes[base] = static_cast<std::uint8_t>(votes[base] + (left != 0) + (right != 0));
+    }
+    i = j;
+  }
+}
+
+// Split votes (2, 3 or 4 of 6) decided by the generalised winding number where the budget
+// allows, by the vote otherwise (ties inside).
+void settle_split_votes(const TriangleMesh& mesh, const Lattice& g, const VoxelizeOptions& options,
+                        std::vector<std::uint8_t>& votes, VoxelizeStats& st) {
+  const double h = g.h;
+  const std::size_t voxels = g.voxels;
   std::vector<std::size_t> ambiguous;
   for (std::size_t i = 0; i < voxels; ++i) {
     if (votes[i] >= 2 && votes[i] <= 4) ambiguous.push_back(i);
@@ -477,11 +497,11 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
     auto work = [&](std::size_t from, std::size_t to) {
       for (std::size_t e = from; e < to; ++e) {
         const std::size_t i = exact[e];
-        const std::size_t x = i % stride[1], y = (i / stride[1]) % static_cast<std::size_t>(n[1]),
-                          z = i / stride[2];
-        const std::array<double, 3> p{origin[0] + (static_cast<double>(x) + 0.5) * h,
-                                      origin[1] + (static_cast<double>(y) + 0.5) * h,
-                                      origin[2] + (static_cast<double>(z) + 0.5) * h};
+        const std::size_t x = i % g.stride[1], y = (i / g.stride[1]) % static_cast<std::size_t>(g.n[1]),
+                          z = i / g.stride[2];
+        const std::array<double, 3> p{g.origin[0] + (static_cast<double>(x) + 0.5) * h,
+                                      g.origin[1] + (static_cast<double>(y) + 0.5) * h,
+                                      g.origin[2] + (static_cast<double>(z) + 0.5) * h};
         votes[i] = std::abs(winding.at(p)) >= 0.5 ? 6 : 0;
       }
     };
@@ -494,12 +514,15 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
     }
   }
   st.winding_evaluations = exact.size();
+}
 
-  VoxelGrid grid(n[0], n[1], n[2], origin[0], origin[1], origin[2], h);
+VoxelGrid grid_from_votes(const Lattice& g, const std::vector<std::uint8_t>& votes) {
+  const int* n = g.n;
+  VoxelGrid grid(n[0], n[1], n[2], g.origin[0], g.origin[1], g.origin[2], g.h);
   for (int z = 0; z < n[2]; ++z) {
     for (int y = 0; y < n[1]; ++y) {
-      const std::uint8_t* row = votes.data() + static_cast<std::size_t>(y) * stride[1] +
-                                static_cast<std::size_t>(z) * stride[2];
+      const std::uint8_t* row = votes.data() + static_cast<std::size_t>(y) * g.stride[1] +
+                                static_cast<std::size_t>(z) * g.stride[2];
       int x = 0;
       while (x < n[0]) {
         while (x < n[0] && row[x] < 4) ++x;
@@ -509,6 +532,30 @@ VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, Vo
       }
     }
   }
+  return grid;
+}
+
+}  // namespace
+
+VoxelGrid voxelize(const TriangleMesh& input, const VoxelizeOptions& options, VoxelizeStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  check_mesh(input);
+  TriangleMesh mesh;
+  mesh.vertices = input.vertices;
+  mesh.triangles = input.triangles;
+  VoxelizeStats st;
+  st.orientation_flips = repair_orientation(mesh);
+  weld_vertices(mesh);
+  st.orientation_flips += flip_inverted_pieces(mesh, options.winding_budget);
+  const Lattice g = place_lattice(mesh, options);
+  std::vector<std::uint8_t> votes(g.voxels, 0);
+  std::vector<Crossing> crossings;
+  for (int a = 0; a < 3; ++a) {
+    collect_crossings(mesh, g, a, crossings);
+    count_votes(crossings, g, a, votes);
+  }
+  settle_split_votes(mesh, g, options, votes, st);
+  VoxelGrid grid = grid_from_votes(g, votes);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = st;
   return grid;
