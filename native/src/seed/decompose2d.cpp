@@ -6,6 +6,7 @@
 
 #include "csgfit/eval/evaluator2d.h"
 #include "csgfit/refine/local_opt.h"
+#include "seed/triangle_frame.h"
 
 namespace csgfit {
 
@@ -15,32 +16,10 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 constexpr double kRadToDeg = 180.0 / kPi;
 
-// Triangle parameters (cx, cy, w, h, angle, apex) from three vertices: the longest edge is the
-// base, which is how a designer would dimension it.
+// The 2D triangle with these vertices.
 Primitive triangle_from_vertices(const double v[3][2]) {
-  int base = 0;
-  double best = -1;
-  for (int i = 0; i < 3; ++i) {
-    const double dx = v[(i + 1) % 3][0] - v[i][0], dy = v[(i + 1) % 3][1] - v[i][1];
-    const double len = dx * dx + dy * dy;
-    if (len > best) best = len, base = i;
-  }
-  const double* a = v[base];
-  const double* b = v[(base + 1) % 3];
-  const double* c = v[(base + 2) % 3];
-  double ux = b[0] - a[0], uy = b[1] - a[1];
-  const double w = std::sqrt(ux * ux + uy * uy);
-  ux /= w, uy /= w;
-  double nx = -uy, ny = ux;
-  double hgt = (c[0] - a[0]) * nx + (c[1] - a[1]) * ny;
-  if (hgt < 0) {  // apex on the other side: walk the base the other way round
-    ux = -ux, uy = -uy, nx = -nx, ny = -ny, hgt = -hgt;
-    std::swap(a, b);
-  }
-  const double mx = 0.5 * (a[0] + b[0]), my = 0.5 * (a[1] + b[1]);
-  const double along = (c[0] - mx) * ux + (c[1] - my) * uy;
-  return Primitive::triangle(mx + nx * hgt / 2, my + ny * hgt / 2, w, hgt,
-                             std::atan2(uy, ux) * kRadToDeg, along / (w / 2));
+  const TriangleFrame f = triangle_frame(v);
+  return Primitive::triangle(f.cx, f.cy, f.w, f.h, f.angle * kRadToDeg, f.apex);
 }
 
 std::size_t mismatch_with(const Primitive& p, const Bitmap& region, Bitmap& scratch) {

@@ -8,6 +8,7 @@
 #include "csgfit/eval/evaluator3d.h"
 #include "csgfit/model/quaternion.h"
 #include "csgfit/refine/local_opt.h"
+#include "seed/triangle_frame.h"
 
 namespace csgfit {
 
@@ -47,36 +48,6 @@ FrustumMoments frustum_moments(double t) {
   return {zbar, m2 / v - zbar * zbar, p / v};
 }
 
-// 2D triangle from three vertices in a plane, as the seed-003 2D matcher dimensions it (the
-// longest edge is the base): centre of its local frame, w, h, base direction, apex.
-struct PlaneTriangle {
-  double cx, cy, w, h, angle, apex;
-};
-PlaneTriangle triangle_from_vertices(const double v[3][2]) {
-  int base = 0;
-  double best = -1;
-  for (int i = 0; i < 3; ++i) {
-    const double dx = v[(i + 1) % 3][0] - v[i][0], dy = v[(i + 1) % 3][1] - v[i][1];
-    const double len = dx * dx + dy * dy;
-    if (len > best) best = len, base = i;
-  }
-  const double* a = v[base];
-  const double* b = v[(base + 1) % 3];
-  const double* c = v[(base + 2) % 3];
-  double ux = b[0] - a[0], uy = b[1] - a[1];
-  const double w = std::sqrt(ux * ux + uy * uy);
-  ux /= w, uy /= w;
-  double nx = -uy, ny = ux;
-  double hgt = (c[0] - a[0]) * nx + (c[1] - a[1]) * ny;
-  if (hgt < 0) {
-    ux = -ux, uy = -uy, nx = -nx, ny = -ny, hgt = -hgt;
-    std::swap(a, b);
-  }
-  const double mx = 0.5 * (a[0] + b[0]), my = 0.5 * (a[1] + b[1]);
-  const double along = (c[0] - mx) * ux + (c[1] - my) * uy;
-  return {mx + nx * hgt / 2, my + ny * hgt / 2, w, hgt, std::atan2(uy, ux), along / (w / 2)};
-}
-
 // Simpler kinds first: the order breaks ties between equal mismatches.
 int simplicity(PrimitiveKind3D k) {
   switch (k) {
@@ -93,104 +64,134 @@ int simplicity(PrimitiveKind3D k) {
 
 }  // namespace
 
-std::optional<RegionMatch3D> match_region3d(const VoxelGrid& region_in, PrimitiveSet3D allowed) {
-  if (allowed.empty() || region_in.empty()) return std::nullopt;
-  const Moments3D m = compute_moments3d(region_in);
-  if (m.voxels == 0) return std::nullopt;
-  // Room around the region so that a candidate spilling over its box is charged for it.
-  const int lo[3] = {0, 0, 0};
-  const int hi[3] = {region_in.nx() - 1, region_in.ny() - 1, region_in.nz() - 1};
-  const VoxelGrid region = crop(region_in, lo, hi, 2);
-  VoxelGrid scratch(region.nx(), region.ny(), region.nz(), region.origin_x(), region.origin_y(),
-                    region.origin_z(), region.voxel_size());
-  const double s = region.voxel_size();
-  const double min_var = s * s / 12;
-  Vec3 lam;
-  for (int i = 0; i < 3; ++i) lam[i] = std::max(m.variances[i], min_var);
-  const Vec3 e[3] = {column(m.axes, 0), column(m.axes, 1), column(m.axes, 2)};
-  const Vec3& c = m.centroid;
+namespace {
 
-  struct Candidate {
-    Primitive3D p;
-    std::size_t mismatch;
-  };
-  // Best candidate per kind.
-  std::vector<Candidate> best_of(7, Candidate{Primitive3D{}, static_cast<std::size_t>(-1)});
-  auto add = [&](Primitive3D p) {
-    if (!allowed.has(p.kind)) return;
-    p.normalize();
-    rasterize(p, scratch);
-    const std::size_t mm = count_xor(scratch, region);
-    Candidate& b = best_of[static_cast<std::size_t>(p.kind)];
-    if (mm < b.mismatch) b = {p, mm};
-  };
+struct Candidate {
+  Primitive3D p;
+  std::size_t mismatch;
+};
 
-  const Quaternion principal = frame(e[0], e[1], e[2]);
-  add(Primitive3D::box(c[0], c[1], c[2], std::sqrt(12 * lam[0]), std::sqrt(12 * lam[1]),
-                       std::sqrt(12 * lam[2]), principal));
-  add(Primitive3D::ellipsoid(c[0], c[1], c[2], std::sqrt(5 * lam[0]), std::sqrt(5 * lam[1]),
-                             std::sqrt(5 * lam[2]), principal));
-  add(Primitive3D::sphere(c[0], c[1], c[2], std::sqrt(5 * (lam[0] + lam[1] + lam[2]) / 3)));
-  static const double kRatios[3] = {0.0, 1.0 / 3, 2.0 / 3};
-  FrustumMoments fm[3];
-  for (int t = 0; t < 3; ++t) fm[t] = frustum_moments(kRatios[t]);
-  for (int ax = 0; ax < 3; ++ax) {
-    // Local z along principal axis ax; the other two (cyclic, so the frame stays right-handed)
-    // span the cross-section.
-    const Vec3& u = e[(ax + 1) % 3];
-    const Vec3& v = e[(ax + 2) % 3];
-    const Vec3& w = e[ax];
+// Frusta with these top / bottom radius ratios are tried (0: a full cone).
+constexpr double kConeRatios[3] = {0.0, 1.0 / 3, 2.0 / 3};
+
+// The moment-matched candidates of one region, the best of each kind by voxel mismatch.
+class MomentMatcher {
+ public:
+  MomentMatcher(const VoxelGrid& region, const Moments3D& m, PrimitiveSet3D allowed)
+      : region_(region),
+        scratch_(region.nx(), region.ny(), region.nz(), region.origin_x(), region.origin_y(),
+                 region.origin_z(), region.voxel_size()),
+        allowed_(allowed),
+        c_(m.centroid),
+        best_of_(7, Candidate{Primitive3D{}, static_cast<std::size_t>(-1)}) {
+    const double s = region.voxel_size();
+    const double min_var = s * s / 12;
+    for (int i = 0; i < 3; ++i) lam_[i] = std::max(m.variances[i], min_var);
+    for (int i = 0; i < 3; ++i) e_[i] = column(m.axes, i);
+  }
+
+  const Vec3& variances() const { return lam_; }
+
+  // Box, ellipsoid and sphere on the principal axes.
+  void add_principal() {
+    const Vec3& c = c_;
+    const Vec3& lam = lam_;
+    const Quaternion principal = frame(e_[0], e_[1], e_[2]);
+    add(Primitive3D::box(c[0], c[1], c[2], std::sqrt(12 * lam[0]), std::sqrt(12 * lam[1]),
+                         std::sqrt(12 * lam[2]), principal));
+    add(Primitive3D::ellipsoid(c[0], c[1], c[2], std::sqrt(5 * lam[0]), std::sqrt(5 * lam[1]),
+                               std::sqrt(5 * lam[2]), principal));
+    add(Primitive3D::sphere(c[0], c[1], c[2], std::sqrt(5 * (lam[0] + lam[1] + lam[2]) / 3)));
+  }
+
+  // Cylinder, cones and prisms with their local z along principal axis ax; the other two axes
+  // (cyclic, so the frame stays right-handed) span the cross-section.
+  void add_along(int ax, const FrustumMoments fm[3]) {
+    const Vec3& c = c_;
+    const Vec3& lam = lam_;
+    const Vec3& u = e_[(ax + 1) % 3];
+    const Vec3& v = e_[(ax + 2) % 3];
+    const Vec3& w = e_[ax];
     const double lp = 0.5 * (lam[(ax + 1) % 3] + lam[(ax + 2) % 3]);
     const Quaternion q = frame(u, v, w);
     add(Primitive3D::cylinder(c[0], c[1], c[2], 2 * std::sqrt(lp), std::sqrt(12 * lam[ax]), q));
-    if (allowed.has(PrimitiveKind3D::Cone)) {
+    if (allowed_.has(PrimitiveKind3D::Cone)) {
       for (int t = 0; t < 3; ++t) {
         const double h = std::sqrt(lam[ax] / fm[t].vz), r1 = std::sqrt(lp / fm[t].vp);
         for (int dir = 0; dir < 2; ++dir) {
           // dir 1: the wide end the other way round.
           const Vec3 zz = dir == 0 ? w : neg(w), xx = dir == 0 ? u : neg(u);
           const Vec3 centre = axpy(c, (0.5 - fm[t].zbar) * h, zz);
-          add(Primitive3D::cone(centre[0], centre[1], centre[2], r1, kRatios[t] * r1, h,
+          add(Primitive3D::cone(centre[0], centre[1], centre[2], r1, kConeRatios[t] * r1, h,
                                 frame(xx, v, zz)));
         }
       }
     }
-    if (allowed.has(PrimitiveKind3D::TriangularPrism)) {
-      // Every triangle is an affine image of the equilateral one (covariance I/8 at
-      // circumradius 1); the triangles with this cross-section's covariance form a
-      // one-parameter family in phi (as in the 2D matcher).
-      const double s1 = std::sqrt(8 * lam[(ax + 1) % 3]), s2 = std::sqrt(8 * lam[(ax + 2) % 3]);
-      const double depth = std::sqrt(12 * lam[ax]);
-      for (int step = 0; step < 12; ++step) {
-        const double phi = step * 10.0 * kPi / 180;
-        double tv[3][2];
-        for (int i = 0; i < 3; ++i) {
-          const double a = phi + kPi / 2 + i * 2 * kPi / 3;
-          tv[i][0] = s1 * std::cos(a);
-          tv[i][1] = s2 * std::sin(a);
-        }
-        const PlaneTriangle t = triangle_from_vertices(tv);
-        const double ca = std::cos(t.angle), sa = std::sin(t.angle);
-        const Vec3 xx = {ca * u[0] + sa * v[0], ca * u[1] + sa * v[1], ca * u[2] + sa * v[2]};
-        const Vec3 yy = {-sa * u[0] + ca * v[0], -sa * u[1] + ca * v[1], -sa * u[2] + ca * v[2]};
-        const Vec3 centre = axpy(axpy(c, t.cx, u), t.cy, v);
-        add(Primitive3D::prism(centre[0], centre[1], centre[2], t.w, t.h, depth, t.apex,
-                               frame(xx, yy, w)));
+    if (allowed_.has(PrimitiveKind3D::TriangularPrism)) add_prisms(ax, u, v, w);
+  }
+
+  std::vector<Candidate> candidates() const {
+    std::vector<Candidate> out;
+    for (const Candidate& cd : best_of_)
+      if (cd.mismatch != static_cast<std::size_t>(-1)) out.push_back(cd);
+    return out;
+  }
+
+ private:
+  void add(Primitive3D p) {
+    if (!allowed_.has(p.kind)) return;
+    p.normalize();
+    rasterize(p, scratch_);
+    const std::size_t mm = count_xor(scratch_, region_);
+    Candidate& b = best_of_[static_cast<std::size_t>(p.kind)];
+    if (mm < b.mismatch) b = {p, mm};
+  }
+
+  // Every triangle is an affine image of the equilateral one (covariance I/8 at circumradius
+  // 1); the triangles with this cross-section's covariance form a one-parameter family in phi
+  // (as in the 2D matcher).
+  void add_prisms(int ax, const Vec3& u, const Vec3& v, const Vec3& w) {
+    const Vec3& c = c_;
+    const Vec3& lam = lam_;
+    const double s1 = std::sqrt(8 * lam[(ax + 1) % 3]), s2 = std::sqrt(8 * lam[(ax + 2) % 3]);
+    const double depth = std::sqrt(12 * lam[ax]);
+    for (int step = 0; step < 12; ++step) {
+      const double phi = step * 10.0 * kPi / 180;
+      double tv[3][2];
+      for (int i = 0; i < 3; ++i) {
+        const double a = phi + kPi / 2 + i * 2 * kPi / 3;
+        tv[i][0] = s1 * std::cos(a);
+        tv[i][1] = s2 * std::sin(a);
       }
+      const TriangleFrame t = triangle_frame(tv);
+      const double ca = std::cos(t.angle), sa = std::sin(t.angle);
+      const Vec3 xx = {ca * u[0] + sa * v[0], ca * u[1] + sa * v[1], ca * u[2] + sa * v[2]};
+      const Vec3 yy = {-sa * u[0] + ca * v[0], -sa * u[1] + ca * v[1], -sa * u[2] + ca * v[2]};
+      const Vec3 centre = axpy(axpy(c, t.cx, u), t.cy, v);
+      add(Primitive3D::prism(centre[0], centre[1], centre[2], t.w, t.h, depth, t.apex,
+                             frame(xx, yy, w)));
     }
   }
 
-  std::vector<Candidate> cands;
-  for (const Candidate& cd : best_of)
-    if (cd.mismatch != static_cast<std::size_t>(-1)) cands.push_back(cd);
-  if (cands.empty()) return std::nullopt;
-  auto better = [](const Candidate& a, const Candidate& b) {
-    if (a.mismatch != b.mismatch) return a.mismatch < b.mismatch;
-    return simplicity(a.p.kind) < simplicity(b.p.kind);
-  };
+  const VoxelGrid& region_;
+  VoxelGrid scratch_;
+  PrimitiveSet3D allowed_;
+  Vec3 lam_;
+  Vec3 e_[3];
+  Vec3 c_;
+  std::vector<Candidate> best_of_;
+};
+
+bool better(const Candidate& a, const Candidate& b) {
+  if (a.mismatch != b.mismatch) return a.mismatch < b.mismatch;
+  return simplicity(a.p.kind) < simplicity(b.p.kind);
+}
+
+// Moments of a digitised shape are only approximately the continuous one's: the most
+// promising kinds are refined against the region itself, and the winner is picked.
+Candidate refine_and_pick(std::vector<Candidate> cands, const VoxelGrid& region,
+                          std::size_t voxels) {
   std::sort(cands.begin(), cands.end(), better);
-  // Moments of a digitised shape are only approximately the continuous one's: refine the most
-  // promising kinds against the region itself.
   const std::size_t refine = std::min<std::size_t>(3, cands.size());
   LocalOptOptions opt;
   opt.max_sweeps = 10;
@@ -207,16 +208,37 @@ std::optional<RegionMatch3D> match_region3d(const VoxelGrid& region_in, Primitiv
   // few voxels better by chance: the simplest kind within 1 % of the region's volume (+2
   // voxels) of the best wins.
   const Candidate& top = *std::min_element(cands.begin(), cands.end(), better);
-  const double tolerance = 0.01 * static_cast<double>(m.voxels) + 2;
+  const double tolerance = 0.01 * static_cast<double>(voxels) + 2;
   const Candidate* pick = &top;
   for (std::size_t i = 0; i < refine; ++i)
     if (static_cast<double>(cands[i].mismatch) <= static_cast<double>(top.mismatch) + tolerance &&
         simplicity(cands[i].p.kind) < simplicity(pick->p.kind))
       pick = &cands[i];
-  const Candidate& win = *pick;
+  return *pick;
+}
+
+}  // namespace
+
+std::optional<RegionMatch3D> match_region3d(const VoxelGrid& region_in, PrimitiveSet3D allowed) {
+  if (allowed.empty() || region_in.empty()) return std::nullopt;
+  const Moments3D m = compute_moments3d(region_in);
+  if (m.voxels == 0) return std::nullopt;
+  // Room around the region so that a candidate spilling over its box is charged for it.
+  const int lo[3] = {0, 0, 0};
+  const int hi[3] = {region_in.nx() - 1, region_in.ny() - 1, region_in.nz() - 1};
+  const VoxelGrid region = crop(region_in, lo, hi, 2);
+  MomentMatcher matcher(region, m, allowed);
+  matcher.add_principal();
+  FrustumMoments fm[3];
+  for (int t = 0; t < 3; ++t) fm[t] = frustum_moments(kConeRatios[t]);
+  for (int ax = 0; ax < 3; ++ax) matcher.add_along(ax, fm);
+  std::vector<Candidate> cands = matcher.candidates();
+  if (cands.empty()) return std::nullopt;
+  const Candidate win = refine_and_pick(std::move(cands), region, m.voxels);
   RegionMatch3D out;
   out.primitive = win.p;
   out.mismatch = win.mismatch;
+  const Vec3& lam = matcher.variances();
   const double block = std::sqrt(12 * lam[0]) * std::sqrt(12 * lam[1]) * std::sqrt(12 * lam[2]);
   out.block_volume_ratio = block / m.volume;
   return out;
