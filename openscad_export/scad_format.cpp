@@ -1,5 +1,7 @@
 #include "scad_format.h"
 
+#include "scad_tree_writer.h"
+
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -72,6 +74,40 @@ std::string comment_safe(std::string s) {
   for (char& ch : s)
     if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ch = '?';
   return s;
+}
+
+void write_resolution(std::ostream& out, int fn) {
+  out << "/* [Resolution] */\n";
+  out << "// Segments per full circle\n";
+  out << "segments = " << fn << "; // [12:1:360]\n\n";
+}
+
+void write_tabs(std::ostream& out, const std::vector<Tab>& tabs) {
+  for (const Tab& tab : tabs) {
+    out << "/* [" << tab.title << "] */\n";
+    for (const Var& v : tab.vars) out << v.name << " = " << v.value << "; // " << v.range << "\n";
+    out << "\n";
+  }
+}
+
+void write_circle_radius(std::ostream& out, CircleFit fit) {
+  switch (fit) {
+    case CircleFit::Inscribed:
+      out << "// Circles are $fn-gons with their vertices on the fitted circle.\n";
+      out << "function fn_r(r) = r;\n\n";
+      break;
+    case CircleFit::Circumscribed:
+      out << "// OpenSCAD puts a circle's $fn vertices on the circle, so the polygon lies inside "
+             "it;\n// enlarging the radius by 1/cos(180/$fn) makes the polygon's edges touch the "
+             "fitted\n// circle instead, which halves the area between the two.\n";
+      out << "function fn_r(r) = r / cos(180 / $fn);\n\n";
+      break;
+    case CircleFit::EqualArea:
+      out << "// OpenSCAD puts a circle's $fn vertices on the circle, so the polygon lies inside "
+             "it;\n// this radius gives the polygon the fitted circle's area instead.\n";
+      out << "function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));\n\n";
+      break;
+  }
 }
 
 }  // namespace csgfit::scad

@@ -1,4 +1,3 @@
-#include "scad_format.h"
 #include "scad_writer3d.h"
 
 #include <algorithm>
@@ -10,80 +9,30 @@
 #include <vector>
 
 #include "csgfit/error.h"
+#include "scad_format.h"
+#include "scad_tree_writer.h"
 
 namespace csgfit {
 
 namespace {
 
-using scad::collect_flat;
-using scad::comment_safe;
-using scad::is_empty;
-using scad::kMaxMagnitude;
-using scad::nice_ceiling;
-using scad::slider_step;
+// The writers' shared helpers (scad_format.h, scad_tree_writer.h).
+using namespace scad;
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-std::string fmt(double v, int decimals) { return scad::number(v, decimals); }
-std::string sanitize_identifier(const std::string& source) {
-  return scad::identifier(source, "model");
-}
 
-struct Var {
-  std::string name, value, range;
-};
-struct Tab {
-  std::string title;
-  std::vector<Var> vars;
-};
-
-class Writer {
+class Writer : public TreeWriter<Writer, Node3D> {
  public:
   Writer(int decimals, double extent) : decimals_(decimals), extent_(extent) {}
 
-  std::string geometry(const Node3D& n, int indent) {
-    const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
-    switch (n.kind) {
-      case NodeKind::Primitive: return pad + primitive(n.primitive) + "\n";
-      case NodeKind::Union:
-      case NodeKind::Intersection: {
-        std::vector<const Node3D*> kids;
-        collect_flat(n, n.kind, kids);
-        if (kids.size() == 1) return geometry(*kids.front(), indent);
-        return block(n.kind == NodeKind::Union ? "union()" : "intersection()", kids, indent);
-      }
-      case NodeKind::Difference: {
-        std::vector<const Node3D*> kids{&n.children.front()};
-        for (std::size_t i = 1; i < n.children.size(); ++i) {
-          const Node3D& c = n.children[i];
-          if (is_empty(c)) continue;
-          if (c.kind == NodeKind::Union)  // a - (b + c) = a - b - c reads better inlined
-            collect_flat(c, NodeKind::Union, kids);
-          else
-            kids.push_back(&c);
-        }
-        if (kids.size() == 1) return geometry(*kids.front(), indent);
-        return block("difference()", kids, indent);
-      }
-    }
-    return {};
-  }
+  std::string primitive(const Primitive3D& p);
 
-  const std::vector<Tab>& tabs() const { return tabs_; }
   bool uses_spheres() const { return spheres_; }
   bool uses_circles() const { return circles_; }
   bool uses_tori() const { return tori_; }
 
  private:
-  std::string block(const std::string& head, const std::vector<const Node3D*>& kids,
-                    int indent) {
-    const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
-    std::string out = pad + head + " {\n";
-    for (const Node3D* k : kids) out += geometry(*k, indent + 1);
-    out += pad + "}\n";
-    return out;
-  }
-
   static double check(double v, const char* what, const std::string& prim) {
     if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
       throw InputError("cannot write .scad: " + prim + " has a non-finite or out-of-range " +
@@ -98,20 +47,14 @@ class Writer {
 
   double step() const { return slider_step(extent_); }
   std::string length_range(double v) const {
-    return "[0:" + fmt(step(), 12) + ":" + fmt(nice_ceiling(std::max(extent_, std::fabs(v))), 12) +
+    return "[0:" + number(step(), 12) + ":" + number(nice_ceiling(std::max(extent_, std::fabs(v))), 12) +
            "]";
   }
   std::string position_range(double v) const {
     const double hi = nice_ceiling(std::max(extent_, std::fabs(v)));
-    return "[" + fmt(-hi, 12) + ":" + fmt(step(), 12) + ":" + fmt(hi, 12) + "]";
+    return "[" + number(-hi, 12) + ":" + number(step(), 12) + ":" + number(hi, 12) + "]";
   }
 
-  std::string add(Tab& tab, const std::string& prefix, const char* field, double v,
-                  const std::string& range, int decimals) {
-    const std::string name = prefix + "_" + field;
-    tab.vars.push_back({name, fmt(v, decimals), range});
-    return name;
-  }
   std::string length(Tab& tab, const std::string& prefix, const char* field, double v) {
     return add(tab, prefix, field, v, length_range(v), decimals_);
   }
@@ -135,7 +78,7 @@ class Writer {
     for (int i = 0; i < 3; ++i) {
       check(e[i], "rotation", what);
       // Angles get more decimals than lengths: a degree turns a 100 mm part's end by 1.7 mm.
-      if (fmt(e[i], 6) == "0") {
+      if (number(e[i], 6) == "0") {
         parts[i] = "0";
         continue;
       }
@@ -146,105 +89,103 @@ class Writer {
     return "rotate([" + parts[0] + ", " + parts[1] + ", " + parts[2] + "]) ";
   }
 
-  std::string primitive(const Primitive3D& p) {
-    ++count_;
-    const std::string num = std::to_string(count_);
-    std::string prefix, title;
-    switch (p.kind) {
-      case PrimitiveKind3D::Box: prefix = "box_", title = "Box "; break;
-      case PrimitiveKind3D::Sphere: prefix = "sphere_", title = "Sphere "; break;
-      case PrimitiveKind3D::Cylinder: prefix = "cyl_", title = "Cylinder "; break;
-      case PrimitiveKind3D::Cone: prefix = "cone_", title = "Cone "; break;
-      case PrimitiveKind3D::Ellipsoid: prefix = "ellipsoid_", title = "Ellipsoid "; break;
-      case PrimitiveKind3D::Torus: prefix = "torus_", title = "Torus "; break;
-      case PrimitiveKind3D::TriangularPrism: prefix = "prism_", title = "Prism "; break;
-    }
-    prefix += num;
-    title += num;
-    const std::string what = "primitive " + num + " (" + std::string(to_string(p.kind)) + ")";
-    Tab tab{title, {}};
-    const int d = decimals_;
-    const std::string vx = add(tab, prefix, "cx", check(p.cx, "centre x", what), position_range(p.cx), d);
-    const std::string vy = add(tab, prefix, "cy", check(p.cy, "centre y", what), position_range(p.cy), d);
-    const std::string vz = add(tab, prefix, "cz", check(p.cz, "centre z", what), position_range(p.cz), d);
-    const Vec3& s = p.dims;
-    std::string code = "translate([" + vx + ", " + vy + ", " + vz + "]) ";
-    if (p.kind != PrimitiveKind3D::Sphere) code += rotation(tab, prefix, p, what);
-    switch (p.kind) {
-      case PrimitiveKind3D::Box: {
-        const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
-        const std::string b = length(tab, prefix, "size_y", check_size(s[1], "size y", what));
-        const std::string c = length(tab, prefix, "size_z", check_size(s[2], "size z", what));
-        code += "cube([" + a + ", " + b + ", " + c + "], center = true);";
-        break;
-      }
-      case PrimitiveKind3D::Sphere: {
-        const std::string r = length(tab, prefix, "r", check_size(s[0], "radius", what));
-        code += "sphere(r = fn_sr(" + r + "));";
-        spheres_ = true;
-        break;
-      }
-      case PrimitiveKind3D::Cylinder: {
-        const std::string r = length(tab, prefix, "r", check_size(s[0], "radius", what));
-        const std::string h = length(tab, prefix, "h", check_size(s[2], "height", what));
-        code += "cylinder(h = " + h + ", r = fn_r(" + r + "), center = true);";
-        circles_ = true;
-        break;
-      }
-      case PrimitiveKind3D::Cone: {
-        check(s[0], "bottom radius", what);
-        check(s[1], "top radius", what);
-        if (s[0] < 0 || s[1] < 0 || !(std::max(s[0], s[1]) > 0))
-          throw InputError("cannot write .scad: " + what + " has a negative or zero radius");
-        const std::string r1 = length(tab, prefix, "r1", s[0]);
-        const std::string r2 = length(tab, prefix, "r2", s[1]);
-        const std::string h = length(tab, prefix, "h", check_size(s[2], "height", what));
-        code += "cylinder(h = " + h + ", r1 = fn_r(" + r1 + "), r2 = fn_r(" + r2 +
-                "), center = true);";
-        circles_ = true;
-        break;
-      }
-      case PrimitiveKind3D::Ellipsoid: {
-        const std::string a = length(tab, prefix, "rx", check_size(s[0], "x semi-axis", what));
-        const std::string b = length(tab, prefix, "ry", check_size(s[1], "y semi-axis", what));
-        const std::string c = length(tab, prefix, "rz", check_size(s[2], "z semi-axis", what));
-        code += "scale([" + a + ", " + b + ", " + c + "]) sphere(r = fn_sr(1));";
-        spheres_ = true;
-        break;
-      }
-      case PrimitiveKind3D::Torus: {
-        check_size(s[0], "major radius", what);
-        check_size(s[1], "minor radius", what);
-        if (s[1] > s[0])
-          throw InputError("cannot write .scad: " + what + " has a minor radius above its major radius");
-        const std::string big = length(tab, prefix, "major_r", s[0]);
-        const std::string small = length(tab, prefix, "minor_r", s[1]);
-        code += "csg_torus(" + big + ", " + small + ");";
-        circles_ = tori_ = true;
-        break;
-      }
-      case PrimitiveKind3D::TriangularPrism: {
-        const std::string w = length(tab, prefix, "w", check_size(s[0], "width", what));
-        const std::string h = length(tab, prefix, "h", check_size(s[1], "height", what));
-        const std::string dp = length(tab, prefix, "depth", check_size(s[2], "depth", what));
-        // The apex offset is relative to the half width: more decimals than a length.
-        const std::string ap = add(tab, prefix, "apex", check(p.apex, "apex", what), "[-4:0.01:4]", 6);
-        code += "linear_extrude(height = " + dp + ", center = true) polygon([[-" + w + " / 2, -" +
-                h + " / 2], [" + w + " / 2, -" + h + " / 2], [" + ap + " * " + w + " / 2, " + h +
-                " / 2]]);";
-        break;
-      }
-    }
-    tabs_.push_back(std::move(tab));
-    return code;
-  }
-
   int decimals_;
   double extent_;
-  int count_ = 0;
   bool spheres_ = false, circles_ = false, tori_ = false;
-  std::vector<Tab> tabs_;
 };
+
+std::string Writer::primitive(const Primitive3D& p) {
+  ++count_;
+  const std::string num = std::to_string(count_);
+  std::string prefix, title;
+  switch (p.kind) {
+    case PrimitiveKind3D::Box: prefix = "box_", title = "Box "; break;
+    case PrimitiveKind3D::Sphere: prefix = "sphere_", title = "Sphere "; break;
+    case PrimitiveKind3D::Cylinder: prefix = "cyl_", title = "Cylinder "; break;
+    case PrimitiveKind3D::Cone: prefix = "cone_", title = "Cone "; break;
+    case PrimitiveKind3D::Ellipsoid: prefix = "ellipsoid_", title = "Ellipsoid "; break;
+    case PrimitiveKind3D::Torus: prefix = "torus_", title = "Torus "; break;
+    case PrimitiveKind3D::TriangularPrism: prefix = "prism_", title = "Prism "; break;
+  }
+  prefix += num;
+  title += num;
+  const std::string what = "primitive " + num + " (" + std::string(to_string(p.kind)) + ")";
+  Tab tab{title, {}};
+  const int d = decimals_;
+  const std::string vx = add(tab, prefix, "cx", check(p.cx, "centre x", what), position_range(p.cx), d);
+  const std::string vy = add(tab, prefix, "cy", check(p.cy, "centre y", what), position_range(p.cy), d);
+  const std::string vz = add(tab, prefix, "cz", check(p.cz, "centre z", what), position_range(p.cz), d);
+  const Vec3& s = p.dims;
+  std::string code = "translate([" + vx + ", " + vy + ", " + vz + "]) ";
+  if (p.kind != PrimitiveKind3D::Sphere) code += rotation(tab, prefix, p, what);
+  switch (p.kind) {
+    case PrimitiveKind3D::Box: {
+      const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
+      const std::string b = length(tab, prefix, "size_y", check_size(s[1], "size y", what));
+      const std::string c = length(tab, prefix, "size_z", check_size(s[2], "size z", what));
+      code += "cube([" + a + ", " + b + ", " + c + "], center = true);";
+      break;
+    }
+    case PrimitiveKind3D::Sphere: {
+      const std::string r = length(tab, prefix, "r", check_size(s[0], "radius", what));
+      code += "sphere(r = fn_sr(" + r + "));";
+      spheres_ = true;
+      break;
+    }
+    case PrimitiveKind3D::Cylinder: {
+      const std::string r = length(tab, prefix, "r", check_size(s[0], "radius", what));
+      const std::string h = length(tab, prefix, "h", check_size(s[2], "height", what));
+      code += "cylinder(h = " + h + ", r = fn_r(" + r + "), center = true);";
+      circles_ = true;
+      break;
+    }
+    case PrimitiveKind3D::Cone: {
+      check(s[0], "bottom radius", what);
+      check(s[1], "top radius", what);
+      if (s[0] < 0 || s[1] < 0 || !(std::max(s[0], s[1]) > 0))
+        throw InputError("cannot write .scad: " + what + " has a negative or zero radius");
+      const std::string r1 = length(tab, prefix, "r1", s[0]);
+      const std::string r2 = length(tab, prefix, "r2", s[1]);
+      const std::string h = length(tab, prefix, "h", check_size(s[2], "height", what));
+      code += "cylinder(h = " + h + ", r1 = fn_r(" + r1 + "), r2 = fn_r(" + r2 +
+              "), center = true);";
+      circles_ = true;
+      break;
+    }
+    case PrimitiveKind3D::Ellipsoid: {
+      const std::string a = length(tab, prefix, "rx", check_size(s[0], "x semi-axis", what));
+      const std::string b = length(tab, prefix, "ry", check_size(s[1], "y semi-axis", what));
+      const std::string c = length(tab, prefix, "rz", check_size(s[2], "z semi-axis", what));
+      code += "scale([" + a + ", " + b + ", " + c + "]) sphere(r = fn_sr(1));";
+      spheres_ = true;
+      break;
+    }
+    case PrimitiveKind3D::Torus: {
+      check_size(s[0], "major radius", what);
+      check_size(s[1], "minor radius", what);
+      if (s[1] > s[0])
+        throw InputError("cannot write .scad: " + what + " has a minor radius above its major radius");
+      const std::string big = length(tab, prefix, "major_r", s[0]);
+      const std::string small = length(tab, prefix, "minor_r", s[1]);
+      code += "csg_torus(" + big + ", " + small + ");";
+      circles_ = tori_ = true;
+      break;
+    }
+    case PrimitiveKind3D::TriangularPrism: {
+      const std::string w = length(tab, prefix, "w", check_size(s[0], "width", what));
+      const std::string h = length(tab, prefix, "h", check_size(s[1], "height", what));
+      const std::string dp = length(tab, prefix, "depth", check_size(s[2], "depth", what));
+      // The apex offset is relative to the half width: more decimals than a length.
+      const std::string ap = add(tab, prefix, "apex", check(p.apex, "apex", what), "[-4:0.01:4]", 6);
+      code += "linear_extrude(height = " + dp + ", center = true) polygon([[-" + w + " / 2, -" +
+              h + " / 2], [" + w + " / 2, -" + h + " / 2], [" + ap + " * " + w + " / 2, " + h +
+              " / 2]]);";
+      break;
+    }
+  }
+  tabs_.push_back(std::move(tab));
+  return code;
+}
 
 }  // namespace
 
@@ -267,7 +208,7 @@ std::string to_scad(const Node3D& tree, const ScadOptions3D& options) {
 
   Writer writer(decimals, extent);
   const std::string body = writer.geometry(tree, 1);
-  const std::string module = sanitize_identifier(options.source);
+  const std::string module = identifier(options.source, "model");
 
   std::ostringstream out;
   out << "// Generated by csgfit";
@@ -275,34 +216,11 @@ std::string to_scad(const Node3D& tree, const ScadOptions3D& options) {
   out << "\n// Units: those of the source model (mm), z up.\n";
   if (!options.summary.empty()) out << "// Fit: " << comment_safe(options.summary) << "\n";
   out << "// Every dimension below is a Customizer parameter (Window > Customizer).\n\n";
-  out << "/* [Resolution] */\n";
-  out << "// Segments per full circle\n";
-  out << "segments = " << options.fn << "; // [12:1:360]\n\n";
-  for (const Tab& tab : writer.tabs()) {
-    out << "/* [" << tab.title << "] */\n";
-    for (const Var& v : tab.vars) out << v.name << " = " << v.value << "; // " << v.range << "\n";
-    out << "\n";
-  }
+  write_resolution(out, options.fn);
+  write_tabs(out, writer.tabs());
   out << "/* [Hidden] */\n";
   out << "$fn = segments;\n\n";
-  if (writer.uses_circles()) {
-    switch (options.circle_fit) {
-      case CircleFit::Inscribed:
-        out << "// Circles are $fn-gons with their vertices on the fitted circle.\n";
-        out << "function fn_r(r) = r;\n\n";
-        break;
-      case CircleFit::Circumscribed:
-        out << "// OpenSCAD puts a circle's $fn vertices on the circle; enlarging the radius by\n"
-               "// 1/cos(180/$fn) makes the polygon's edges touch the fitted circle instead.\n";
-        out << "function fn_r(r) = r / cos(180 / $fn);\n\n";
-        break;
-      case CircleFit::EqualArea:
-        out << "// OpenSCAD puts a circle's $fn vertices on the circle, so the polygon lies inside "
-               "it;\n// this radius gives the polygon the fitted circle's area instead.\n";
-        out << "function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));\n\n";
-        break;
-    }
-  }
+  if (writer.uses_circles()) write_circle_radius(out, options.circle_fit);
   if (writer.uses_spheres()) {
     switch (options.circle_fit) {
       case CircleFit::Inscribed:

@@ -1,0 +1,95 @@
+// Internal to openscad_export/: what the 2D and 3D .scad writers write the same way: the tree's
+// geometry as nested blocks, the Customizer parameters (one tab per primitive), and the parts
+// of the file around them.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "csgfit/model/tree.h"
+#include "scad_format.h"
+#include "scad_writer.h"
+
+namespace csgfit::scad {
+
+/// One Customizer parameter: `name = value; // range`.
+struct Var {
+  std::string name, value, range;
+};
+
+/// A Customizer tab: the parameters of one primitive.
+struct Tab {
+  std::string title;
+  std::vector<Var> vars;
+};
+
+/// Writes a tree's geometry: unions and intersections flattened, the subtracted unions of a
+/// difference inlined (a - (b + c) = a - b - c), empty subtrees left out, one line per
+/// primitive as `Derived::primitive(const P&)` writes it (which adds the primitive's tab).
+template <typename Derived, typename NodeT>
+class TreeWriter {
+ public:
+  std::string geometry(const NodeT& n, int indent) {
+    const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
+    switch (n.kind) {
+      case NodeKind::Primitive:
+        return pad + static_cast<Derived*>(this)->primitive(n.primitive) + "\n";
+      case NodeKind::Union:
+      case NodeKind::Intersection: {
+        std::vector<const NodeT*> kids;
+        collect_flat(n, n.kind, kids);
+        if (kids.size() == 1) return geometry(*kids.front(), indent);
+        return block(n.kind == NodeKind::Union ? "union()" : "intersection()", kids, indent);
+      }
+      case NodeKind::Difference: {
+        std::vector<const NodeT*> kids{&n.children.front()};
+        for (std::size_t i = 1; i < n.children.size(); ++i) {
+          const NodeT& c = n.children[i];
+          if (is_empty(c)) continue;
+          if (c.kind == NodeKind::Union)
+            collect_flat(c, NodeKind::Union, kids);
+          else
+            kids.push_back(&c);
+        }
+        if (kids.size() == 1) return geometry(*kids.front(), indent);
+        return block("difference()", kids, indent);
+      }
+    }
+    return {};
+  }
+
+  const std::vector<Tab>& tabs() const { return tabs_; }
+
+ protected:
+  /// Adds `prefix_field = v` to the tab and returns the variable's name.
+  static std::string add(Tab& tab, const std::string& prefix, const char* field, double v,
+                         const std::string& range, int decimals) {
+    const std::string name = prefix + "_" + field;
+    tab.vars.push_back({name, number(v, decimals), range});
+    return name;
+  }
+
+  int count_ = 0;  // primitives written so far: the number in their names
+  std::vector<Tab> tabs_;
+
+ private:
+  std::string block(const std::string& head, const std::vector<const NodeT*>& kids, int indent) {
+    const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
+    std::string out = pad + head + " {\n";
+    for (const NodeT* k : kids) out += geometry(*k, indent + 1);
+    out += pad + "}\n";
+    return out;
+  }
+};
+
+/// The `segments` parameter: the file's $fn, in a tab of its own.
+void write_resolution(std::ostream& out, int fn);
+
+/// Every primitive's tab of parameters.
+void write_tabs(std::ostream& out, const std::vector<Tab>& tabs);
+
+/// fn_r(r): the radius a circle of radius r is drawn with as OpenSCAD's $fn-gon.
+void write_circle_radius(std::ostream& out, CircleFit fit);
+
+}  // namespace csgfit::scad
