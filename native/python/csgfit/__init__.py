@@ -384,13 +384,9 @@ def load_json(text_or_path: Union[str, os.PathLike]) -> FitResult:
     Accepts the JSON text itself or a path to a .json file. Raises InputError when malformed.
     """
     text = os.fspath(text_or_path)
-    if not text.lstrip().startswith("{"):
-        try:
-            with open(text, encoding="utf-8") as f:
-                text = f.read()
-        except OSError as e:
-            raise InputError(f"cannot read {text}: {e.strerror}") from None
-    return FitResult(_csgfit.from_json(text))
+    if text.lstrip().startswith("{"):
+        return FitResult(_csgfit.from_json(text))
+    return FitResult(_csgfit.load_json_file(text))
 
 
 # ---- 3D ------------------------------------------------------------------------------------
@@ -521,29 +517,20 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
               cancel=cancel)
     if isinstance(mesh, (str, bytes, os.PathLike)):
         path = os.fsdecode(mesh)
-        source = os.path.basename(path)
-        if _csgfit.is_voxel_path(path):
-            voxels, origin, size = load_voxels(path)
-            return FitResult3D(_csgfit.fit_voxels(voxels.view(np.uint8), list(origin), size,
-                                                  source=source, **kw))
-        if not _csgfit.is_mesh_path(path):
-            raise InputError(f"unknown input format '{path}' (expected .stl, .obj, .off, .ply, "
-                             ".npy or .binvox)")
-        vertices, triangles = load_mesh(path)
-    else:
-        try:
-            vertices, triangles = mesh
-        except (TypeError, ValueError):
-            raise InputError("mesh must be a path or a (vertices, triangles) pair") from None
-        source = ""
+        return FitResult3D(_csgfit.fit_file(path, resolution=int(resolution),
+                                            voxel_size=float(voxel_size),
+                                            source=os.path.basename(path), **kw))
+    try:
+        vertices, triangles = mesh
+    except (TypeError, ValueError):
+        raise InputError("mesh must be a path or a (vertices, triangles) pair") from None
     try:
         v = np.asarray(vertices, dtype=np.float64)
         t = np.asarray(triangles, dtype=np.int64)
     except (TypeError, ValueError) as e:
         raise InputError(f"mesh arrays: {e}") from None
     return FitResult3D(_csgfit.fit_mesh_arrays(v, t, resolution=int(resolution),
-                                               voxel_size=float(voxel_size), source=source,
-                                               **kw))
+                                               voxel_size=float(voxel_size), **kw))
 
 
 def fit_voxels(voxels, *, origin: Sequence[float] = (0.0, 0.0, 0.0), voxel_size: float = 1.0,
