@@ -29,6 +29,11 @@ from .results import Alternative, FitResult, FitResult3D, FitStats, Result
 from .tree import SIZE_FIELDS_3D, Node, Primitive, Primitive3D
 
 __all__ = [
+    "DEFAULT_PRIMITIVES_3D",
+    "PRIMITIVE_TYPES",
+    "PRIMITIVE_TYPES_3D",
+    "QUALITIES",
+    "SIZE_FIELDS_3D",
     "Alternative",
     "CancelToken",
     "FitProgress",

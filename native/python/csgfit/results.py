@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+from typing import Optional
 
 from .tree import tree_from_json3d, tree_from_pixels
 
@@ -69,7 +70,7 @@ class Result:
         """The result as JSON text (schema csgfit/1: docs/JSON_SCHEMA.md)."""
         return self._native.to_json()
 
-    def to_scad(self, fn: int = None) -> str:
+    def to_scad(self, fn: Optional[int] = None) -> str:
         """The best tree as OpenSCAD 2021.01 source in model units; fn is $fn for round
         primitives (default SCAD_FN)."""
         return self._native.to_scad(fn=self.SCAD_FN if fn is None else int(fn))
