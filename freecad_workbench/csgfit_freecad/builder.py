@@ -2,37 +2,11 @@
 
 Works headless (freecadcmd or /usr/bin/python3 with FreeCAD's lib on sys.path) and does not need
 the native csgfit module: the input is the result's JSON (schema csgfit/1, docs/JSON_SCHEMA.md),
-as a dict, as text, as a path, or a csgfit.FitResult.
+as a dict, as text, as a path, or a csgfit.FitResult / FitResult3D.
 
-Mapping of a 2D result (model units, y up, angles in degrees counter-clockwise; extruded from
-z = 0 to z = thickness):
-
-  rectangle  Part::Box       Length = w, Width = h, Placement: centre at (cx, cy), rotated about z
-  circle     Part::Cylinder  Radius = r, Placement at (cx, cy)
-  ellipse    Part::Ellipse (MajorRadius, MinorRadius, Placement) + Part::Extrusion (Solid)
-  triangle   Part::Wedge     base Xmin..Xmax at Ymin, apex X2min (= X2max) at Ymax
-  union          Part::MultiFuse
-  intersection   Part::MultiCommon
-  difference     Part::Cut(first, rest) with rest = Part::MultiFuse of the subtracted children
-                 when there are several
-
-Every height is an expression on the thickness cell of a spreadsheet in the group, so changing
-one cell changes the extrusion of the whole tree. Nothing is baked into a static shape.
-
-A 3D result ("dimension": 3, from csgfit mesh / csgfit.fit_mesh) keeps the mesh's coordinates.
-Each primitive of the solver is centred on its local origin and turned by its quaternion
-(primitive3d.h); FreeCAD's Box grows from a corner and Cylinder / Cone from the base, so their
-Placement is centre + R * (local offset of that corner or base), rotation = the quaternion:
-
-  box        Part::Box        Length, Width, Height = size; offset (-x/2, -y/2, -z/2)
-  sphere     Part::Sphere     Radius
-  cylinder   Part::Cylinder   Radius, Height; offset (0, 0, -h/2)
-  cone       Part::Cone       Radius1 (bottom) = r1, Radius2 = r2, Height; offset (0, 0, -h/2)
-                              (a Part::Cylinder when r1 == r2: OCC refuses such a cone)
-  ellipsoid  Part::Ellipsoid  Radius2 = rx, Radius3 = ry, Radius1 = rz (FreeCAD's Radius1 is z)
-  torus      Part::Torus      Radius1 = R, Radius2 = r
-  prism      Part::Wedge      the 2D triangle's wedge over z in [-depth/2, depth/2]; X2max and
-                              Z2min/Z2max are expressions on X2min and Zmin/Zmax
+The Part objects of each primitive and operator are made by part_objects.py (its docstring
+has the mapping); this module reads results, groups the objects with their parameter sheet and
+records the result on the group.
 """
 
 from __future__ import annotations
@@ -41,24 +15,15 @@ import json
 import math
 import os
 import re
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional
 
 import FreeCAD as App
+
+from .part_objects import PARAMETRIC_TYPES, BuildError, PartTree
 
 SCHEMA = "csgfit/1"
 #: Thickness used when the result has none: this many pixels.
 DEFAULT_THICKNESS_PIXELS = 10.0
-
-PRIMITIVE_TYPES = ("Part::Box", "Part::Cylinder", "Part::Ellipse", "Part::Extrusion",
-                   "Part::Wedge", "Part::Sphere", "Part::Cone", "Part::Ellipsoid", "Part::Torus")
-BOOLEAN_TYPES = ("Part::MultiFuse", "Part::MultiCommon", "Part::Cut", "Part::Fuse",
-                 "Part::Common")
-#: Every object type the builder creates (besides the group and its spreadsheet).
-PARAMETRIC_TYPES = PRIMITIVE_TYPES + BOOLEAN_TYPES
-
-
-class BuildError(ValueError):
-    """The result cannot be turned into a FreeCAD tree (malformed JSON, unknown node)."""
 
 
 class BuildResult:
@@ -136,251 +101,70 @@ def default_thickness(result: Dict[str, Any]) -> float:
     return DEFAULT_THICKNESS_PIXELS * float(canvas.get("pixel_size") or 1.0)
 
 
-def _object_name(text: str) -> str:
+def object_name(text: str) -> str:
     """A FreeCAD object name (identifier) derived from free text."""
     name = re.sub(r"[^A-Za-z0-9_]", "_", text).strip("_") or "result"
     return name
 
 
-def _number(d: Dict[str, Any], key: str, where: str, positive: bool = False,
-            default: Optional[float] = None) -> float:
-    if key not in d:
-        if default is not None:
-            return default
-        raise BuildError(f"{where}: missing '{key}'")
-    v = d[key]
-    if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v):
-        raise BuildError(f"{where}: '{key}' must be a finite number")
-    if positive and v <= 0:
-        raise BuildError(f"{where}: '{key}' must be > 0")
-    return float(v)
+def _chosen_tree(result: Dict[str, Any], alternative: int):
+    """(tree, stats) of the best tree (-1) or of an alternative."""
+    if alternative == -1:
+        return result["tree"], result.get("stats") or {}
+    alts = result.get("alternatives") or []
+    if not 0 <= alternative < len(alts):
+        raise BuildError(f"no alternative {alternative} (the result has {len(alts)})")
+    return alts[alternative]["tree"], alts[alternative].get("stats") or {}
 
 
-def _placement(cx: float, cy: float, angle: float, local: Tuple[float, float] = (0.0, 0.0)):
-    """Placement that puts local point `local` of a shape rotated by `angle` about z at
-    (cx, cy) + R(angle) * local; i.e. the shape's local origin ends up at that point."""
-    a = math.radians(angle)
-    c, s = math.cos(a), math.sin(a)
-    x, y = local
-    base = App.Vector(cx + c * x - s * y, cy + s * x + c * y, 0.0)
-    return App.Placement(base, App.Rotation(App.Vector(0, 0, 1), angle))
+def _parameter_sheet(doc, name: str, label: str, result: Dict[str, Any],
+                     thickness: Optional[float]):
+    """The group's spreadsheet: 2D, the thickness cell every height refers to and the pixel
+    size; 3D (thickness None), a record of the grid the fit was scored on (3D primitives carry
+    their own sizes)."""
+    sheet = doc.addObject("Spreadsheet::Sheet", name + "_parameters")
+    sheet.Label = f"{label} parameters"
+    if thickness is not None:
+        rows = [("Thickness (mm)", f"={thickness!r}mm", "thickness"),
+                ("Pixel size (mm)",
+                 f"={float(result.get('canvas', {}).get('pixel_size') or 1.0)!r}mm",
+                 "pixel_size")]
+    else:
+        grid = result.get("grid") or {}
+        rows = [("Voxel size (mm)", f"={float(grid.get('voxel_size') or 0.0)!r}mm",
+                 "voxel_size"),
+                ("Grid (voxels)", "'{} x {} x {}".format(grid.get("nx", 0), grid.get("ny", 0),
+                                                        grid.get("nz", 0)), None)]
+    for row, (title, value, alias) in enumerate(rows, start=1):
+        sheet.set(f"A{row}", title)
+        sheet.set(f"B{row}", value)
+        if alias:
+            sheet.setAlias(f"B{row}", alias)
+    return sheet
 
 
-def _vector(d: Dict[str, Any], key: str, n: int, where: str) -> List[float]:
-    v = d.get(key)
-    if not isinstance(v, list) or len(v) != n:
-        raise BuildError(f"{where}: '{key}' must be an array of {n} numbers")
-    for x in v:
-        if not isinstance(x, (int, float)) or isinstance(x, bool) or not math.isfinite(x):
-            raise BuildError(f"{where}: '{key}' must hold finite numbers")
-    return [float(x) for x in v]
+def _record(group, result: Dict[str, Any], stats: Dict[str, Any], alternative: int,
+            built: PartTree, root, scad: Optional[str]) -> None:
+    """The result on the group as read-only properties (Export OpenSCAD reads them back)."""
+    def prop(kind, pname, doc_text, value):
+        group.addProperty(kind, pname, "CSG Fit", doc_text)
+        setattr(group, pname, value)
+        group.setEditorMode(pname, 1)  # read-only in the property editor
 
-
-def rotation3d(d: Dict[str, Any], where: str = "primitive"):
-    """The primitive's unit quaternion [w, x, y, z] (local -> model) as an App.Rotation;
-    identity when absent."""
-    if "rotation" not in d:
-        return App.Rotation()
-    w, x, y, z = _vector(d, "rotation", 4, where)
-    norm = math.sqrt(w * w + x * x + y * y + z * z)
-    if norm < 1e-12:
-        raise BuildError(f"{where}: 'rotation' is a zero quaternion")
-    return App.Rotation(x / norm, y / norm, z / norm, w / norm)  # FreeCAD's order: x, y, z, w
-
-
-def placement3d(center, rotation, local=(0.0, 0.0, 0.0)):
-    """Placement putting the object's own origin at local point `local` of a primitive centred
-    at `center` and turned by `rotation`: base = center + R * local."""
-    offset = rotation.multVec(App.Vector(*local))
-    return App.Placement(App.Vector(*center) + offset, rotation)
-
-
-class _Builder:
-    def __init__(self, doc, group, sheet, thickness_expr: str):
-        self.doc = doc
-        self.group = group
-        self.sheet = sheet
-        self.t = thickness_expr
-        self.created: List[Any] = []
-        self.primitives: List[Tuple[Dict[str, Any], Any, Any]] = []
-        self.counts: Dict[str, int] = {}
-
-    def _add(self, type_name: str, label: str):
-        n = self.counts.get(label, 0) + 1
-        self.counts[label] = n
-        obj = self.doc.addObject(type_name, label)
-        obj.Label = f"{label}{n:03d}"
-        self.created.append(obj)
-        return obj
-
-    def node(self, d: Any, where: str):
-        if not isinstance(d, dict):
-            raise BuildError(f"{where}: a node must be an object")
-        if "op" in d:
-            return self.operator(d, where)
-        if "type" in d:
-            return self.primitive(d, where)
-        raise BuildError(f"{where}: a node needs 'op' or 'type'")
-
-    def operator(self, d: Dict[str, Any], where: str):
-        op = d["op"]
-        kids = d.get("children")
-        if not isinstance(kids, list) or not kids:
-            raise BuildError(f"{where}: '{op}' needs a non-empty 'children' array")
-        if op not in ("union", "difference", "intersection"):
-            raise BuildError(f"{where}: unknown op {op!r}")
-        children = [self.node(c, f"{where}.children[{i}]") for i, c in enumerate(kids)]
-        if len(children) == 1:
-            return children[0]
-        if op == "union":
-            return self.fuse(children, "Union")
-        if op == "intersection":
-            obj = self._add("Part::MultiCommon", "Intersection")
-            obj.Shapes = children
-            return obj
-        tool = children[1] if len(children) == 2 else self.fuse(children[1:], "Subtracted")
-        obj = self._add("Part::Cut", "Difference")
-        obj.Base = children[0]
-        obj.Tool = tool
-        return obj
-
-    def fuse(self, children, label: str):
-        obj = self._add("Part::MultiFuse", label)
-        obj.Shapes = children
-        return obj
-
-    def primitive(self, d: Dict[str, Any], where: str):
-        if self.t is None:
-            return self.primitive3d(d, where)
-        kind = d["type"]
-        where = f"{where} ({kind})"
-        cx = _number(d, "cx", where)
-        cy = _number(d, "cy", where)
-        if kind in ("rectangle", "rect"):
-            w = _number(d, "w", where, True)
-            h = _number(d, "h", where, True)
-            angle = _number(d, "angle", where, default=0.0)
-            obj = self._add("Part::Box", "Rectangle")
-            obj.Length = w
-            obj.Width = h
-            obj.setExpression("Height", self.t)
-            obj.Placement = _placement(cx, cy, angle, (-w / 2, -h / 2))
-            self.primitives.append((d, obj, obj))
-            return obj
-        if kind == "circle":
-            r = _number(d, "r", where, True)
-            obj = self._add("Part::Cylinder", "Circle")
-            obj.Radius = r
-            obj.setExpression("Height", self.t)
-            obj.Placement = _placement(cx, cy, 0.0)
-            self.primitives.append((d, obj, obj))
-            return obj
-        if kind == "ellipse":
-            rx = _number(d, "rx", where, True)
-            ry = _number(d, "ry", where, True)
-            angle = _number(d, "angle", where, default=0.0)
-            # Part::Ellipse wants MajorRadius >= MinorRadius along its local x axis.
-            if rx < ry:
-                rx, ry, angle = ry, rx, angle + 90.0
-            curve = self._add("Part::Ellipse", "EllipseCurve")
-            curve.MajorRadius = rx
-            curve.MinorRadius = ry
-            curve.Placement = _placement(cx, cy, angle)
-            obj = self._add("Part::Extrusion", "Ellipse")
-            obj.Base = curve
-            obj.DirMode = "Custom"
-            obj.Dir = App.Vector(0, 0, 1)
-            obj.Solid = True
-            obj.setExpression("LengthFwd", self.t)
-            self.primitives.append((d, curve, obj))
-            return obj
-        if kind == "triangle":
-            w = _number(d, "w", where, True)
-            h = _number(d, "h", where, True)
-            angle = _number(d, "angle", where, default=0.0)
-            apex = _number(d, "apex", where, default=0.0)
-            obj = self._add("Part::Wedge", "Triangle")
-            obj.Xmin, obj.Xmax = -w / 2, w / 2
-            obj.Ymin, obj.Ymax = -h / 2, h / 2
-            obj.Zmin = 0.0
-            obj.Z2min = 0.0
-            obj.setExpression("Zmax", self.t)
-            obj.setExpression("Z2max", self.t)
-            obj.X2min = apex * w / 2
-            # The top edge of the wedge degenerates to the apex; tying X2max to X2min keeps
-            # it a triangle when the user moves the apex.
-            obj.setExpression("X2max", "X2min")
-            obj.Placement = _placement(cx, cy, angle)
-            self.primitives.append((d, obj, obj))
-            return obj
-        raise BuildError(f"{where}: unknown primitive type {kind!r}")
-
-    def primitive3d(self, d: Dict[str, Any], where: str):
-        kind = d["type"]
-        where = f"{where} ({kind})"
-        c = _vector(d, "center", 3, where)
-        rot = rotation3d(d, where)
-        if kind in ("box", "cube"):
-            sx, sy, sz = _vector(d, "size", 3, where)
-            if min(sx, sy, sz) <= 0:
-                raise BuildError(f"{where}: 'size' must be > 0")
-            obj = self._add("Part::Box", "Box")
-            obj.Length, obj.Width, obj.Height = sx, sy, sz
-            obj.Placement = placement3d(c, rot, (-sx / 2, -sy / 2, -sz / 2))
-        elif kind == "sphere":
-            obj = self._add("Part::Sphere", "Sphere")
-            obj.Radius = _number(d, "r", where, True)
-            obj.Placement = placement3d(c, rot)
-        elif kind == "cylinder" or (kind == "cone" and d.get("r1") == d.get("r2")):
-            r = _number(d, "r" if kind == "cylinder" else "r1", where, True)
-            h = _number(d, "h", where, True)
-            obj = self._add("Part::Cylinder", "Cylinder")
-            obj.Radius, obj.Height = r, h
-            obj.Placement = placement3d(c, rot, (0.0, 0.0, -h / 2))
-        elif kind in ("cone", "frustum"):
-            r1 = _number(d, "r1", where)
-            r2 = _number(d, "r2", where)
-            h = _number(d, "h", where, True)
-            if r1 < 0 or r2 < 0 or max(r1, r2) <= 0:
-                raise BuildError(f"{where}: 'r1' and 'r2' must be >= 0, one of them > 0")
-            obj = self._add("Part::Cone", "Cone")
-            obj.Radius1, obj.Radius2, obj.Height = r1, r2, h
-            obj.Placement = placement3d(c, rot, (0.0, 0.0, -h / 2))
-        elif kind == "ellipsoid":
-            rx, ry, rz = _vector(d, "radii", 3, where)
-            if min(rx, ry, rz) <= 0:
-                raise BuildError(f"{where}: 'radii' must be > 0")
-            obj = self._add("Part::Ellipsoid", "Ellipsoid")
-            # FreeCAD's Radius1 is along local z, Radius2 along x, Radius3 along y.
-            obj.Radius1, obj.Radius2, obj.Radius3 = rz, rx, ry
-            obj.Placement = placement3d(c, rot)
-        elif kind == "torus":
-            major = _number(d, "R", where, True)
-            minor = _number(d, "r", where, True)
-            obj = self._add("Part::Torus", "Torus")
-            obj.Radius1, obj.Radius2 = major, minor
-            obj.Placement = placement3d(c, rot)
-        elif kind in ("prism", "wedge", "triangular_prism"):
-            w = _number(d, "w", where, True)
-            h = _number(d, "h", where, True)
-            depth = _number(d, "depth", where, True)
-            apex = _number(d, "apex", where, default=0.0)
-            obj = self._add("Part::Wedge", "Prism")
-            obj.Xmin, obj.Xmax = -w / 2, w / 2
-            obj.Ymin, obj.Ymax = -h / 2, h / 2
-            obj.Zmin, obj.Zmax = -depth / 2, depth / 2
-            obj.Z2min, obj.Z2max = -depth / 2, depth / 2
-            obj.X2min = obj.X2max = apex * w / 2
-            # The wedge's far face degenerates to the apex edge; the expressions keep it a
-            # triangular prism when the user edits X2min, Zmin or Zmax.
-            obj.setExpression("X2max", "X2min")
-            obj.setExpression("Z2min", "Zmin")
-            obj.setExpression("Z2max", "Zmax")
-            obj.Placement = placement3d(c, rot)
-        else:
-            raise BuildError(f"{where}: unknown primitive type {kind!r}")
-        self.primitives.append((d, obj, obj))
-        return obj
+    prop("App::PropertyString", "CsgFitJson", "The fitted result (csgfit/1 JSON)",
+         json.dumps(result))
+    prop("App::PropertyString", "CsgFitSource", "Input image or mesh", result.get("source") or "")
+    prop("App::PropertyInteger", "CsgFitDimension", "2 (bitmap) or 3 (mesh, voxels)",
+         dimension(result))
+    prop("App::PropertyInteger", "CsgFitAlternative", "Tree shown (-1 = best)", alternative)
+    prop("App::PropertyFloat", "CsgFitIoU", "IoU of the fit on the pixel or voxel grid",
+         float(stats.get("iou") or 0.0))
+    prop("App::PropertyInteger", "CsgFitPrimitives", "Primitives in the tree",
+         len(built.primitives))
+    prop("App::PropertyLink", "CsgFitRoot", "The root solid of the tree", root)
+    if scad is not None:
+        # 3D JSON cannot be read back natively yet; Export OpenSCAD writes this text.
+        prop("App::PropertyString", "CsgFitScad", "The fitted tree as OpenSCAD source", scad)
 
 
 def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optional[str] = None,
@@ -397,15 +181,7 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
     Raises BuildError on malformed input (nothing is left in the document then).
     """
     result = load_result(source)
-    tree = result["tree"]
-    if alternative != -1:
-        alts = result.get("alternatives") or []
-        if not 0 <= alternative < len(alts):
-            raise BuildError(f"no alternative {alternative} (the result has {len(alts)})")
-        tree = alts[alternative]["tree"]
-        stats = alts[alternative].get("stats") or {}
-    else:
-        stats = result.get("stats") or {}
+    tree, stats = _chosen_tree(result, alternative)
     dim = dimension(result)
     t = None
     if dim == 2:
@@ -416,30 +192,11 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
         src = result.get("source") or ""
         label = os.path.splitext(os.path.basename(src))[0] or "csgfit"
 
-    name = "CSGFit_" + _object_name(label)
+    name = "CSGFit_" + object_name(label)
     group = doc.addObject("App::DocumentObjectGroup", name)
     group.Label = label
-    sheet = doc.addObject("Spreadsheet::Sheet", name + "_parameters")
-    sheet.Label = f"{label} parameters"
-    if dim == 2:
-        sheet.set("A1", "Thickness (mm)")
-        sheet.set("B1", f"={t!r}mm")
-        sheet.setAlias("B1", "thickness")
-        sheet.set("A2", "Pixel size (mm)")
-        pixel_size = float(result.get("canvas", {}).get("pixel_size") or 1.0)
-        sheet.set("B2", f"={pixel_size!r}mm")
-        sheet.setAlias("B2", "pixel_size")
-    else:
-        # A record of the grid the fit was scored on (3D primitives carry their own sizes).
-        grid = result.get("grid") or {}
-        sheet.set("A1", "Voxel size (mm)")
-        sheet.set("B1", f"={float(grid.get('voxel_size') or 0.0)!r}mm")
-        sheet.setAlias("B1", "voxel_size")
-        sheet.set("A2", "Grid (voxels)")
-        sheet.set("B2", "'{} x {} x {}".format(grid.get("nx", 0), grid.get("ny", 0),
-                                             grid.get("nz", 0)))
-
-    builder = _Builder(doc, group, sheet, f"{sheet.Name}.thickness" if dim == 2 else None)
+    sheet = _parameter_sheet(doc, name, label, result, t)
+    builder = PartTree(doc, group, sheet, f"{sheet.Name}.thickness" if dim == 2 else None)
     try:
         root = builder.node(tree, "tree")
     except Exception:
@@ -452,27 +209,8 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
     # view nests the whole CSG tree under it (listing every object in the group as well would
     # show each one twice).
     group.addObjects([sheet, root])
-
-    def prop(kind, pname, doc_text, value):
-        group.addProperty(kind, pname, "CSG Fit", doc_text)
-        setattr(group, pname, value)
-        group.setEditorMode(pname, 1)  # read-only in the property editor
-
-    prop("App::PropertyString", "CsgFitJson", "The fitted result (csgfit/1 JSON)",
-         json.dumps(result))
-    prop("App::PropertyString", "CsgFitSource", "Input image or mesh", result.get("source") or "")
-    prop("App::PropertyInteger", "CsgFitDimension", "2 (bitmap) or 3 (mesh, voxels)", dim)
-    prop("App::PropertyInteger", "CsgFitAlternative", "Tree shown (-1 = best)", alternative)
-    prop("App::PropertyFloat", "CsgFitIoU", "IoU of the fit on the pixel or voxel grid",
-         float(stats.get("iou") or 0.0))
-    prop("App::PropertyInteger", "CsgFitPrimitives", "Primitives in the tree",
-         len(builder.primitives))
-    prop("App::PropertyLink", "CsgFitRoot", "The root solid of the tree", root)
-    if dim == 3 and hasattr(source, "to_scad"):
-        # 3D JSON cannot be read back natively yet; Export OpenSCAD writes this text.
-        prop("App::PropertyString", "CsgFitScad", "The fitted tree as OpenSCAD source",
-             source.to_scad())
-
+    scad = source.to_scad() if dim == 3 and hasattr(source, "to_scad") else None
+    _record(group, result, stats, alternative, builder, root, scad)
     # Only the root is shown; the inputs of booleans stay hidden as the Part commands do.
     for obj in builder.created:
         if obj is not root:

@@ -33,7 +33,7 @@ class ImageToCsgCommand:
 
     def Activated(self):
         global active_panel
-        from .task_panel import ImageToCsgPanel
+        from .image_panel import ImageToCsgPanel
         active_panel = ImageToCsgPanel()
         Gui.Control.showDialog(active_panel)
 
@@ -60,7 +60,7 @@ class MeshToCsgCommand:
     def Activated(self):
         global active_panel
         from .mesh_input import FILE_FILTER
-        from .task_panel import MeshToCsgPanel
+        from .mesh_panel import MeshToCsgPanel
 
         mesh = selected_mesh()
         path = None

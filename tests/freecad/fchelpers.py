@@ -2,8 +2,10 @@
 benchmarks, rasterising a section of a solid, and an independent CSG evaluation of a JSON tree
 with plain Part shapes (to check what the parametric tree computes)."""
 
+import contextlib
 import math
 import os
+import shutil
 import sys
 
 import numpy as np
@@ -59,6 +61,20 @@ def iou(a, b):
     return 1.0 if union == 0 else float(np.logical_and(a, b).sum() / union)
 
 
+def combine(op, shapes):
+    """The CSG operator `op` of Part shapes: union, intersection, or the first minus the rest."""
+    if len(shapes) == 1:
+        return shapes[0]
+    if op == "union":
+        return shapes[0].fuse(shapes[1:]).removeSplitter()
+    if op == "intersection":
+        out = shapes[0]
+        for s in shapes[1:]:
+            out = out.common(s)
+        return out
+    return shapes[0].cut(shapes[1:])
+
+
 def static_shape(node, thickness):
     """The solid of a JSON tree (model units) built directly with Part's functions: an
     evaluation independent of the builder's parametric objects."""
@@ -67,17 +83,7 @@ def static_shape(node, thickness):
 
     z = App.Vector(0, 0, 1)
     if "op" in node:
-        shapes = [static_shape(c, thickness) for c in node["children"]]
-        if len(shapes) == 1:
-            return shapes[0]
-        if node["op"] == "union":
-            return shapes[0].fuse(shapes[1:])
-        if node["op"] == "intersection":
-            out = shapes[0]
-            for s in shapes[1:]:
-                out = out.common(s)
-            return out
-        return shapes[0].cut(shapes[1:])
+        return combine(node["op"], [static_shape(c, thickness) for c in node["children"]])
     t = node["type"]
     cx, cy = node["cx"], node["cy"]
     a = math.radians(node.get("angle", 0.0))
@@ -156,17 +162,7 @@ def static_shape3d(node):
     import Part
 
     if "op" in node:
-        shapes = [static_shape3d(c) for c in node["children"]]
-        if len(shapes) == 1:
-            return shapes[0]
-        if node["op"] == "union":
-            return shapes[0].fuse(shapes[1:]).removeSplitter()
-        if node["op"] == "intersection":
-            out = shapes[0]
-            for s in shapes[1:]:
-                out = out.common(s)
-            return out
-        return shapes[0].cut(shapes[1:])
+        return combine(node["op"], [static_shape3d(c) for c in node["children"]])
     t = node["type"]
     V = App.Vector
     if t == "box":
@@ -220,6 +216,36 @@ def make_fixture(path, placement=None):
     mesh = Mesh.Mesh(solid.tessellate(0.01))
     mesh.write(str(path))
     return mesh.Volume
+
+
+def freecadcmd():
+    """The freecadcmd executable, or a pytest skip."""
+    import pytest
+
+    exe = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
+    if not exe:
+        pytest.skip("freecadcmd not installed")
+    return exe
+
+
+@contextlib.contextmanager
+def reopened(path):
+    """The one csgfit group of a saved .FCStd, reopened and recomputed from scratch (every
+    object touched) and checked sound; the document is closed after the with block."""
+    import FreeCAD as App
+    from csgfit_freecad import builder
+
+    d = App.openDocument(str(path))
+    try:
+        for obj in d.Objects:
+            obj.touch()
+        d.recompute()
+        groups = builder.find_groups(d)
+        assert len(groups) == 1
+        assert builder.check_tree(d, groups[0]) == []
+        yield groups[0]
+    finally:
+        App.closeDocument(d.Name)
 
 
 def csgfit_or_skip():

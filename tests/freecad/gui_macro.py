@@ -41,6 +41,18 @@ def wait_fit(panel, limit):
     return time.monotonic() - t0
 
 
+def cancel_a_long_fit(panel, after):
+    """Starts the panel's fit, presses Cancel fit `after` seconds later and reports how long
+    the fit took to stop and why it stopped."""
+    panel.start_fit()
+    pump(after)
+    t0 = time.monotonic()
+    panel.cancel_fit()
+    wait_fit(panel, 10)
+    report["cancel_seconds"] = time.monotonic() - t0
+    report["cancel_stop_reason"] = panel.result.stats.stop_reason if panel.result else None
+
+
 def shot(name):
     """Screenshot of the main window. QWidget.grab() leaves the OpenGL 3D view blank under
     Xvfb, so the view is rendered off-screen by Coin and painted into its place."""
@@ -130,13 +142,7 @@ def image_scenario():
     # Cancel: a long fit stops promptly.
     panel.time.setValue(30)
     panel.quality.setCurrentText("best")
-    panel.start_fit()
-    pump(0.3)
-    t0 = time.monotonic()
-    panel.cancel_fit()
-    wait_fit(panel, 10)
-    report["cancel_seconds"] = time.monotonic() - t0
-    report["cancel_stop_reason"] = panel.result.stats.stop_reason if panel.result else None
+    cancel_a_long_fit(panel, 0.3)
 
     # The real fit.
     panel.time.setValue(3)
@@ -187,13 +193,7 @@ def mesh_scenario():
 
     # Cancel: a long fit stops promptly and keeps the best tree so far.
     panel.time.setValue(60)
-    panel.start_fit()
-    pump(0.5)
-    t0 = time.monotonic()
-    panel.cancel_fit()
-    wait_fit(panel, 10)
-    report["cancel_seconds"] = time.monotonic() - t0
-    report["cancel_stop_reason"] = panel.result.stats.stop_reason if panel.result else None
+    cancel_a_long_fit(panel, 0.5)
 
     # The real fit (it ends by convergence on this part).
     panel.time.setValue(30)
@@ -224,7 +224,7 @@ def mesh_scenario():
 
     # A file that is not a mesh: the panel says so in its status line.
     Gui.Control.closeDialog()
-    from csgfit_freecad.task_panel import MeshToCsgPanel
+    from csgfit_freecad.mesh_panel import MeshToCsgPanel
 
     bad = MeshToCsgPanel(path="/nonexistent/missing.stl")
     report["bad_file_status"] = bad.status.text()

@@ -10,7 +10,6 @@ import copy
 import json
 import math
 import os
-import shutil
 import subprocess
 
 import pytest
@@ -243,42 +242,19 @@ def test_saved_fcstd_reopens_and_recomputes_the_same(tmp_path, fitted):
     path = str(tmp_path / f"{name}.FCStd")
     d.saveAs(path)
     App.closeDocument(d.Name)
-    d = App.openDocument(path)
-    try:
-        for obj in d.Objects:
-            obj.touch()
-        d.recompute()
-        group = d.getObject(group_name)
-        assert builder.check_tree(d, group) == []
+    with H.reopened(path) as group:
+        assert group.Name == group_name
         assert group.CsgFitRoot.Shape.Volume == pytest.approx(volume, rel=1e-9)
-    finally:
-        App.closeDocument(d.Name)
-
-
-def _freecadcmd():
-    exe = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
-    if not exe:
-        pytest.skip("freecadcmd not installed")
-    return exe
 
 
 def _check_fcstd(path, volume=None):
-    d = App.openDocument(str(path))
-    try:
-        for obj in d.Objects:
-            obj.touch()
-        d.recompute()
-        groups = builder.find_groups(d)
-        assert len(groups) == 1
-        assert builder.check_tree(d, groups[0]) == []
+    with H.reopened(path) as group:
         if volume is not None:
-            assert groups[0].CsgFitRoot.Shape.Volume == pytest.approx(volume, rel=1e-9)
-    finally:
-        App.closeDocument(d.Name)
+            assert group.CsgFitRoot.Shape.Volume == pytest.approx(volume, rel=1e-9)
 
 
 def test_fcstd_writer_under_freecadcmd(tmp_path, doc):
-    exe = _freecadcmd()
+    exe = H.freecadcmd()
     src = tmp_path / "in.json"
     src.write_text(json.dumps(ALL_KINDS))
     out = tmp_path / "out.FCStd"
@@ -304,7 +280,7 @@ def test_cli_writes_fcstd(tmp_path, fitted):
     cli = os.path.join(H.BUILD, "bin", "csgfit")
     if not os.path.exists(cli):
         pytest.skip(f"CLI not built at {cli}")
-    _freecadcmd()
+    H.freecadcmd()
     out = tmp_path / f"{name}.FCStd"
     env = dict(os.environ, CSGFIT_FCSTD_WRITER=WRITER)
     proc = subprocess.run([cli, "image", os.path.join(H.BENCH, name + ".png"), "-o", str(out),

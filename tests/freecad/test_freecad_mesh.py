@@ -10,7 +10,6 @@ import copy
 import json
 import math
 import os
-import shutil
 import subprocess
 
 import numpy as np
@@ -163,25 +162,18 @@ def test_fitted_mesh_builds_a_parametric_solid_of_the_mesh_volume(doc, tmp_path_
     # The mesh: within the voxels' resolution (see make_fixture).
     assert shape.Volume == pytest.approx(mesh_volume, rel=0.015)
     # The tree itself, evaluated independently (exactly) and by the solver (its voxels).
-    assert shape.Volume == pytest.approx(H.static_shape3d(result.tree).Volume, rel=1e-6)
+    assert shape.Volume == pytest.approx(H.static_shape3d(result.tree.to_dict()).Volume, rel=1e-6)
     assert shape.Volume == pytest.approx(result.volume(), rel=0.01)
     # The hole is a hole: the solid does not contain the cylinder's axis.
     assert not shape.isInside(App.Vector(20, 10, 6), 1e-6, True)
     assert shape.isInside(App.Vector(5, 5, 6), 1e-6, True)
 
 
-def _freecadcmd():
-    exe = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
-    if not exe:
-        pytest.skip("freecadcmd not installed")
-    return exe
-
-
 def test_cli_mesh_writes_fcstd_that_reopens_and_recomputes(tmp_path):
     cli = os.path.join(H.BUILD, "bin", "csgfit")
     if not os.path.exists(cli):
         pytest.skip(f"CLI not built at {cli}")
-    _freecadcmd()
+    H.freecadcmd()
     src = tmp_path / "in"
     src.mkdir()
     # Stood on its side (a quarter turn about x) and moved: faces stay on voxel boundaries.
@@ -197,21 +189,13 @@ def test_cli_mesh_writes_fcstd_that_reopens_and_recomputes(tmp_path):
                           env=env)
     assert proc.returncode == 0, proc.stderr
     assert sorted(os.listdir(out_dir)) == [out.name]  # no temporary left over
-    d = App.openDocument(str(out))
-    try:
-        for obj in d.Objects:
-            obj.touch()
-        d.recompute()
-        groups = builder.find_groups(d)
-        assert len(groups) == 1 and groups[0].CsgFitDimension == 3
-        assert builder.check_tree(d, groups[0]) == []
-        shape = groups[0].CsgFitRoot.Shape
+    with H.reopened(out) as group:
+        assert group.CsgFitDimension == 3
+        shape = group.CsgFitRoot.Shape
         assert shape.Volume == pytest.approx(mesh_volume, rel=0.015)
         assert shape.BoundBox.ZLength == pytest.approx(20, abs=0.5)  # it stands
-        tree = json.loads(groups[0].CsgFitJson)["tree"]
+        tree = json.loads(group.CsgFitJson)["tree"]
         assert shape.Volume == pytest.approx(H.static_shape3d(tree).Volume, rel=1e-6)
-    finally:
-        App.closeDocument(d.Name)
     # A mesh output format the command does not know: status 2, one line, nothing written.
     proc = subprocess.run([cli, "mesh", str(src / "turned.stl"), "-o", str(out_dir / "x.step3")],
                           capture_output=True, text=True, timeout=60)

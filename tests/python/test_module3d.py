@@ -65,7 +65,7 @@ def test_voxel_fit_returns_the_3d_document_and_its_voxels():
 def test_ball_is_one_sphere_or_ellipsoid():
     r = csgfit.fit_voxels(ball(), time=20, seed=2, threads=2)
     assert r.stats.iou >= 0.97
-    assert r.stats.primitives == 1 and r.tree["type"] in ("sphere", "ellipsoid")
+    assert r.stats.primitives == 1 and r.tree.type in ("sphere", "ellipsoid")
 
 
 def test_same_seed_same_tree():
@@ -102,7 +102,7 @@ def test_mesh_arrays_and_file_give_the_same_fit(tmp_path):
     b = csgfit.fit_mesh(str(path), resolution=48, time=20, seed=1, threads=2)
     assert b.source == "slab.stl" and a.source == ""
     assert a.tree == b.tree and a.warning == ""
-    assert a.stats.iou >= 0.99 and a.tree["type"] == "box"
+    assert a.stats.iou >= 0.99 and a.tree.type == "box"
     assert a.volume() == pytest.approx(20 * 10 * 5, rel=0.1)
     vox, origin, size, warning = csgfit.voxelize(v, t, resolution=48)
     assert vox.shape[0] == 48 + 2 and size == pytest.approx(20 / 48)
@@ -145,7 +145,6 @@ def test_progress_returning_false_cancels():
     (lambda: csgfit.fit_voxels(np.full((4, 4, 4), np.nan)), "NaN"),
     (lambda: csgfit.fit_voxels(ball(), voxel_size=0), "voxel_size"),
     (lambda: csgfit.fit_voxels(ball(), origin=(0, 0)), "origin"),
-    (lambda: csgfit.fit_voxels(ball(), primitives=["sphere"]), "boxes"),
     (lambda: csgfit.fit_voxels(ball(), primitives="box,hexagon"), "hexagon"),
     (lambda: csgfit.fit_voxels(ball(), time=0), "time"),
     (lambda: csgfit.fit_mesh("/nonexistent/part.stl"), "part.stl"),
@@ -171,9 +170,106 @@ def test_bad_file_contents(tmp_path):
         csgfit.fit_mesh(str(npy))
 
 
-def test_voxel_file_is_fitted_as_it_is(tmp_path):
+def test_voxel_file_and_voxel_array_give_the_same_kind_of_result(tmp_path):
     path = tmp_path / "ball.npy"
     np.save(path, ball())
-    r = csgfit.fit_mesh(str(path), time=20, seed=2, threads=2)
-    assert r.source == "ball.npy" and r.voxel_size == 1.0 and r.origin == (0.0, 0.0, 0.0)
-    assert np.array_equal(r.target(), ball()) and r.stats.iou >= 0.97
+    from_file = csgfit.fit_mesh(str(path), time=20, seed=2, threads=2)
+    from_array = csgfit.fit_voxels(ball(), time=20, seed=2, threads=2)
+    assert from_file.source == "ball.npy" and from_file.voxel_size == 1.0
+    assert from_file.origin == (0.0, 0.0, 0.0)
+    assert np.array_equal(from_file.target(), ball()) and from_file.stats.iou >= 0.97
+    assert type(from_file) is type(from_array) is csgfit.FitResult3D
+    assert isinstance(from_file.tree, csgfit.Primitive3D)
+    # Fitted as it is, on its own grid: the same tree and the same document.
+    assert from_file.tree == from_array.tree
+    doc_file, doc_array = from_file.to_dict(), from_array.to_dict()
+    for d in (doc_file, doc_array):
+        d.pop("source")
+        d["stats"].pop("seconds")
+    assert doc_file == doc_array
+
+
+def json_leaves(d):
+    if "op" in d:
+        return [leaf for c in d["children"] for leaf in json_leaves(c)]
+    return [d]
+
+
+def test_3d_tree_objects_agree_with_the_json_document():
+    r = csgfit.fit_voxels(box_minus_sphere(), origin=(10.0, -5.0, 2.0), voxel_size=0.5,
+                          time=30, seed=1, threads=2)
+    doc = r.document
+    assert r.tree.to_dict() == doc["tree"]
+    leaves = [n for n in r.tree.walk() if n.op == "primitive"]
+    assert len(leaves) == r.tree.count() == r.stats.primitives == len(json_leaves(doc["tree"]))
+    for leaf, d in zip(leaves, json_leaves(doc["tree"])):
+        assert isinstance(leaf, csgfit.Primitive3D) and leaf.type == d["type"]
+        assert list(leaf.center) == d["center"] and list(leaf.rotation) == d["rotation"]
+        for name in csgfit.SIZE_FIELDS_3D[leaf.type]:
+            value = getattr(leaf, name)
+            assert (list(value) if isinstance(value, tuple) else value) == d[name], name
+    # Model units: the block is 28 x 20 x 16 voxels of 0.5, centred at origin + 18 voxels.
+    block, pocket = r.tree.children
+    assert r.tree.op == "difference" and block.type == "box"
+    assert sorted(block.size) == pytest.approx([8, 10, 14], abs=0.3)
+    assert block.center == pytest.approx((19.0, 4.0, 11.0), abs=0.3)
+    assert pocket.type in ("sphere", "ellipsoid")
+    assert str(r.tree).startswith("difference(box(center=(19")
+
+
+def quaternion_matrix(q):
+    w, x, y, z = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def test_explicit_voxel_size_is_fitted_in_the_parts_frame_and_refined():
+    # A 20 x 10 x 5 box turned 20 degrees about x, then 30 about z, and moved.
+    v, t = cube_mesh((-10, -5, -2.5), (10, 5, 2.5))
+    a, b = np.radians(30), np.radians(20)
+    turn = (np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+            @ np.array([[1, 0, 0], [0, np.cos(b), -np.sin(b)], [0, np.sin(b), np.cos(b)]]))
+    r = csgfit.fit_mesh((v @ turn.T + [3, 4, 5], t), voxel_size=0.5, time=20, seed=1,
+                        threads=2)
+    assert r.voxel_size == 0.5 and r.stats.primitives == 1 and r.tree.type == "box"
+    assert r.stats.iou >= 0.999
+    assert r.volume() == pytest.approx(1000, rel=0.01)
+    # Turned like the input: each of the box's axes is one of the input's, with its length.
+    axes = quaternion_matrix(r.tree.rotation)
+    for n, length in enumerate(r.tree.size):
+        match = np.abs(turn.T @ axes[:, n])
+        assert match.max() == pytest.approx(1, abs=1e-6)
+        assert length == pytest.approx((20, 10, 5)[int(match.argmax())], abs=1e-3)
+    assert r.tree.center == pytest.approx((3, 4, 5), abs=1e-3)
+    # The grid the stats were measured on is the part's frame, as `csgfit mesh` writes it.
+    frame = quaternion_matrix(r.document["grid"]["frame"])
+    assert np.abs(frame.T @ axes).max(axis=1) == pytest.approx([1, 1, 1], abs=1e-6)
+
+
+def test_a_primitive_list_without_boxes_is_one_line_of_input_error(tmp_path):
+    v, t = cube_mesh((0, 0, 0), (10, 6, 4))
+    stl = tmp_path / "block.stl"
+    write_stl(stl, v, t)
+    npy = tmp_path / "ball.npy"
+    np.save(npy, ball())
+    for call in (lambda: csgfit.fit_voxels(ball(), primitives=["sphere"]),
+                 lambda: csgfit.fit_mesh((v, t), primitives="sphere,cylinder"),
+                 lambda: csgfit.fit_mesh(str(stl), primitives=["sphere"]),
+                 lambda: csgfit.fit_mesh(str(npy), primitives=["ellipsoid"])):
+        with pytest.raises(csgfit.InputError) as info:
+            call()
+        assert str(info.value) == "the 3D fit needs boxes among the primitives"
+
+
+def test_2d_and_3d_results_are_the_same_kind_of_object():
+    r2 = csgfit.fit_image(np.pad(np.ones((20, 30), bool), 4), time=2, seed=1, threads=2)
+    r3 = csgfit.fit_voxels(np.pad(np.ones((12, 8, 6), bool), 2), time=10, seed=1, threads=2)
+    for r, leaf in ((r2, csgfit.Primitive), (r3, csgfit.Primitive3D)):
+        assert isinstance(r, csgfit.Result)
+        assert isinstance(r.tree, leaf) and r.tree.type in ("rectangle", "box")
+        assert r.tree.count() == r.stats.primitives == 1 and list(r.tree.walk()) == [r.tree]
+        assert r.stats.iou == 1.0 and np.array_equal(r.raster(), r.target())
+        assert json.loads(r.to_json())["tree"] == r.tree.to_dict()
+        assert repr(r).startswith(type(r).__name__ + "(primitives=1, iou=1.0000")
+    assert r3.tree.size == pytest.approx((12, 8, 6)) and r2.tree.w == pytest.approx(30)
