@@ -1,6 +1,4 @@
 // The `csgfit` command line.
-#include <fcntl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -28,12 +26,16 @@
 #include "csgfit/io/voxels_read.h"
 #include "csgfit/model/mesh.h"
 #include "csgfit/model/voxelize.h"
+#include "fcstd_writer.h"
+#include "progress_bar.h"
 #include "scad_writer.h"
 #include "scad_writer3d.h"
 #include "step_writer.h"
 
 namespace fs = std::filesystem;
 using namespace csgfit;
+using cli::ProgressBar;
+using cli::write_fcstd;
 
 namespace {
 
@@ -74,79 +76,10 @@ std::string read_text_file(const std::string& path) {
   return ss.str();
 }
 
-// A one-line bar redrawn in place; only when stderr is a terminal.
-class ProgressBar {
- public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
-  bool update(const FitProgress& p) {
-    if (!enabled_) return true;
-    const int width = 30;
-    const int filled = static_cast<int>(std::lround(p.fraction * width));
-    std::fprintf(stderr, "\r[%s%s] %3d%%  score %.0f  %zu primitives  %zu evaluations  %.1f s ",
-                 std::string(static_cast<std::size_t>(filled), '#').c_str(),
-                 std::string(static_cast<std::size_t>(width - filled), '.').c_str(),
-                 static_cast<int>(std::lround(p.fraction * 100)), p.best_score, p.best_primitives,
-                 p.evaluations, p.seconds);
-    std::fflush(stderr);
-    drawn_ = true;
-    return true;
-  }
-  void finish() {
-    if (drawn_) std::fprintf(stderr, "\r%*s\r", 110, "");
-  }
-
- private:
-  bool enabled_;
-  bool drawn_ = false;
-};
-
 std::string alternative_path(const std::string& out, std::size_t i) {
   fs::path p(out);
   return (p.parent_path() / (p.stem().string() + ".alt" + std::to_string(i) + p.extension().string()))
       .string();
-}
-
-// .FCStd goes through FreeCAD's own Python API, headless: freecadcmd runs the workbench's
-// writer script, which takes its arguments from the environment (freecadcmd keeps argv).
-void write_fcstd(const std::string& json_text, const std::string& out) {
-  const char* env = std::getenv("CSGFIT_FCSTD_WRITER");
-  const std::string writer =
-      env ? std::string(env)
-          : (fs::path(CSGFIT_SOURCE_DIR) / "freecad_workbench" / "csgfit_freecad" / "fcstd_writer.py").string();
-  if (!fs::exists(writer))
-    throw InputError("cannot write .FCStd: the FreeCAD writer '" + writer +
-                     "' was not found (set CSGFIT_FCSTD_WRITER)");
-  const std::string stem = (fs::temp_directory_path() / ("csgfit-" + std::to_string(getpid()))).string();
-  const std::string json_path = stem + ".json", log_path = stem + ".log";
-  write_file_atomic(json_path, json_text);
-  const std::string out_abs = fs::absolute(out).string();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    setenv("CSGFIT_JSON", json_path.c_str(), 1);
-    setenv("CSGFIT_FCSTD", out_abs.c_str(), 1);
-    const int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    const int null = open("/dev/null", O_WRONLY);
-    if (log >= 0) dup2(log, STDERR_FILENO);
-    if (null >= 0) dup2(null, STDOUT_FILENO);
-    execlp("freecadcmd", "freecadcmd", writer.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  int status = -1;
-  if (pid > 0) waitpid(pid, &status, 0);
-  // The writer's own one-line reason, if it gave one.
-  std::string reason;
-  {
-    std::ifstream log(log_path);
-    for (std::string line; std::getline(log, line);)
-      if (line.rfind("csgfit: error:", 0) == 0) reason = line.substr(14);
-  }
-  fs::remove(json_path);
-  fs::remove(log_path);
-  if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(out)) {
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
-      throw InputError("cannot write '" + out + "': freecadcmd is not installed");
-    throw InputError("cannot write '" + out + "':" + (reason.empty() ? " FreeCAD failed" : reason));
-  }
 }
 
 void write_result(const FitResult& result, const ModelFrame& frame, const std::string& out,
