@@ -12,7 +12,9 @@
 #include "csgfit/io/json.h"
 #include "fcstd_writer.h"
 #include "scad_writer.h"
+#ifdef CSGFIT_WITH_STEP
 #include "step_writer.h"
+#endif
 
 namespace fs = std::filesystem;
 
@@ -26,6 +28,15 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+InputError no_step_support(const std::string& out) {
+  return InputError("cannot write '" + out +
+                    "': this csgfit was built without STEP support (CSGFIT_BUILD_OCCT=OFF)");
+}
+
+#ifdef CSGFIT_WITH_STEP
+constexpr bool kWithStep = true;
+const char* const kExpected = "(expected .scad, .json, .FCStd or .step)";
+
 void write_step_file(const std::string& out, const Node& tree, const ModelFrame& frame) {
   write_step(tree, frame, out);
 }
@@ -35,6 +46,18 @@ void write_step_file(const std::string& out, const Node3D& tree, const std::stri
   step.source = source;
   write_step(tree, out, step);
 }
+#else
+constexpr bool kWithStep = false;
+const char* const kExpected = "(expected .scad, .json or .FCStd)";
+
+// output_format refuses .step before anything is fitted or read; these are not reached.
+void write_step_file(const std::string& out, const Node&, const ModelFrame&) {
+  throw no_step_support(out);
+}
+void write_step_file(const std::string& out, const Node3D&, const std::string&) {
+  throw no_step_support(out);
+}
+#endif
 
 std::string alternative_path(const std::string& out, std::size_t i) {
   fs::path p(out);
@@ -62,14 +85,18 @@ void write_document(const std::string& out, OutputFormat format, const std::stri
 
 }  // namespace
 
+bool has_step_support() { return kWithStep; }
+
 OutputFormat output_format(const std::string& out) {
   const std::string ext = lower_extension(out);
   if (ext == ".scad") return OutputFormat::Scad;
   if (ext == ".json") return OutputFormat::Json;
   if (ext == ".fcstd") return OutputFormat::FCStd;
-  if (is_step_path(out)) return OutputFormat::Step;
-  throw InputError("unknown output format '" + (ext.empty() ? out : ext) +
-                   "' (expected .scad, .json, .FCStd or .step)");
+  if (ext == ".step" || ext == ".stp") {
+    if (!kWithStep) throw no_step_support(out);
+    return OutputFormat::Step;
+  }
+  throw InputError("unknown output format '" + (ext.empty() ? out : ext) + "' " + kExpected);
 }
 
 void check_writable(const std::string& path) {

@@ -14,8 +14,11 @@ namespace csgfit::cli {
 
 enum class OutputFormat { Scad, Json, FCStd, Step };
 
+/// Whether this csgfit writes STEP (it does unless built with CSGFIT_BUILD_OCCT=OFF).
+bool has_step_support();
+
 /// The format that OUT's extension (any case) names. Throws InputError for an unknown
-/// extension.
+/// extension, and for .step / .stp in a build without STEP.
 OutputFormat output_format(const std::string& out);
 
 /// Throws InputError unless `path` can be created: its folder exists and is writable, and it
