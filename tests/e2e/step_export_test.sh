@@ -10,6 +10,29 @@ set -u
 e2e_args 2 "$@"
 # The first failure ends this test: each step works on the files of the one before.
 fail() { echo "FAIL: $*"; exit 1; }
+
+# A csgfit built without STEP (CSGFIT_BUILD_OCCT=OFF) says so in its --version line; it must
+# refuse .step / .stp before any fit (exit 2, one line, no file), and the rest of this test is
+# skipped.
+if "$CLI" --version | grep -q "without STEP"; then
+  e2e_tmpdir
+  refuses_step() {
+    local start rc
+    start=$(date +%s)
+    "$CLI" "$@" -o "$TMP/x.STP" --time 30 -q 2>"$TMP/err.txt"
+    rc=$?
+    [ $rc -eq 2 ] || fail "$1 without STEP support: exit $rc, expected 2"
+    { [ "$(wc -l <"$TMP/err.txt")" -eq 1 ] && grep -q "without STEP support" "$TMP/err.txt"; } ||
+      { cat "$TMP/err.txt"; fail "$1 without STEP support: not one line that says so"; }
+    [ ! -e "$TMP/x.STP" ] || fail "$1 without STEP support: a file was written"
+    [ $(( $(date +%s) - start )) -lt 20 ] || fail "$1 without STEP support: refused after the fit"
+  }
+  $PY "$SRC/tests/fixtures/holed_block_stl.py" "$TMP/part.stl" || fail "could not write the test mesh"
+  refuses_step image "$SRC/examples/bracket.png" --thickness 3
+  refuses_step mesh "$TMP/part.stl"
+  e2e_skip "SKIP: this csgfit was built without STEP support ($(cat "$TMP/err.txt"))"
+fi
+
 e2e_need_tools openscad
 [ -d /usr/lib/freecad-python3/lib ] || e2e_skip "SKIP: FreeCAD is not installed"
 e2e_tmpdir

@@ -1,0 +1,28 @@
+#include "fit_command.h"
+
+#include <cstdio>
+
+namespace csgfit::cli {
+
+void add_fit_args(CLI::App& command, FitArgs& args, const FitArgsHelp& help) {
+  command.add_option("input", args.input, help.input)->required();
+  command.add_option("-o,--output", args.output, help.output)->required();
+  command.add_option("--time", args.time_limit, "time budget in seconds")
+      ->check(CLI::PositiveNumber);
+  command.add_option("--seed", args.seed, "random seed: same seed and threads, same tree");
+  command.add_option("--threads", args.threads, "worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
+  command.add_option("--k", args.k, help.k)->check(CLI::NonNegativeNumber);
+  command.add_option("--primitives", args.primitives, help.primitives);
+  command.add_option("--fn", args.fn, help.fn)->check(CLI::Range(3, 1000));
+  command.add_flag("-q,--quiet", args.quiet, help.quiet);
+}
+
+void print_summary(const FitStats& stats) {
+  std::fprintf(stderr,
+               "csgfit: IoU %.4f, %zu primitives, %zu trees, %zu evaluations, %.2f s (%s)\n",
+               stats.iou, stats.primitives, stats.trees, stats.evaluations, stats.seconds,
+               stats.stop_reason.c_str());
+}
+
+}  // namespace csgfit::cli
