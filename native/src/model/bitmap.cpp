@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <stdexcept>
 
-namespace csgfit {
+#include "model/bit_words.h"
 
-namespace {
-inline std::size_t popcount(std::uint64_t w) { return static_cast<std::size_t>(__builtin_popcountll(w)); }
-}  // namespace
+namespace csgfit {
 
 Bitmap::Bitmap(int width, int height) : width_(width), height_(height) {
   if (width < 0 || height < 0) throw std::invalid_argument("bitmap size must not be negative");
@@ -16,20 +14,7 @@ Bitmap::Bitmap(int width, int height) : width_(width), height_(height) {
 }
 
 void Bitmap::set_span(int row, int col_begin, int col_end) {
-  if (col_begin >= col_end) return;
-  std::uint64_t* w = row_words(row);
-  const int first = col_begin >> 6;
-  const int last = (col_end - 1) >> 6;
-  const std::uint64_t head = ~std::uint64_t{0} << (col_begin & 63);
-  const int tail_bits = col_end & 63;
-  const std::uint64_t tail = tail_bits ? (~std::uint64_t{0} >> (64 - tail_bits)) : ~std::uint64_t{0};
-  if (first == last) {
-    w[first] |= head & tail;
-    return;
-  }
-  w[first] |= head;
-  for (int i = first + 1; i < last; ++i) w[i] = ~std::uint64_t{0};
-  w[last] |= tail;
+  bit_words::set_span(row_words(row), col_begin, col_end);
 }
 
 void Bitmap::clear() { std::fill(bits_.begin(), bits_.end(), 0); }
@@ -39,31 +24,22 @@ void Bitmap::fill() {
   mask_padding();
 }
 
-void Bitmap::mask_padding() {
-  const int tail_bits = width_ & 63;
-  if (tail_bits == 0 || words_per_row_ == 0) return;
-  const std::uint64_t mask = ~std::uint64_t{0} >> (64 - tail_bits);
-  for (int r = 0; r < height_; ++r) row_words(r)[words_per_row_ - 1] &= mask;
-}
+void Bitmap::mask_padding() { bit_words::mask_padding(bits_, width_, words_per_row_); }
 
-std::size_t Bitmap::count() const {
-  std::size_t n = 0;
-  for (std::uint64_t w : bits_) n += popcount(w);
-  return n;
-}
+std::size_t Bitmap::count() const { return bit_words::count(bits_); }
 
 Bitmap& Bitmap::operator|=(const Bitmap& o) {
-  for (std::size_t i = 0; i < bits_.size(); ++i) bits_[i] |= o.bits_[i];
+  bit_words::combine(bits_, o.bits_, bit_words::unite);
   return *this;
 }
 
 Bitmap& Bitmap::operator&=(const Bitmap& o) {
-  for (std::size_t i = 0; i < bits_.size(); ++i) bits_[i] &= o.bits_[i];
+  bit_words::combine(bits_, o.bits_, bit_words::intersect);
   return *this;
 }
 
 Bitmap& Bitmap::subtract(const Bitmap& o) {
-  for (std::size_t i = 0; i < bits_.size(); ++i) bits_[i] &= ~o.bits_[i];
+  bit_words::combine(bits_, o.bits_, bit_words::subtract);
   return *this;
 }
 
@@ -84,36 +60,6 @@ Bitmap Bitmap::inverted() const {
   for (std::uint64_t& w : out.bits_) w = ~w;
   out.mask_padding();
   return out;
-}
-
-std::size_t count_and_not(const Bitmap& a, const Bitmap& b) {
-  std::size_t n = 0;
-  const std::uint64_t* pa = a.data();
-  const std::uint64_t* pb = b.data();
-  for (std::size_t i = 0; i < a.word_count(); ++i) n += popcount(pa[i] & ~pb[i]);
-  return n;
-}
-
-std::size_t count_and(const Bitmap& a, const Bitmap& b) {
-  std::size_t n = 0;
-  const std::uint64_t* pa = a.data();
-  const std::uint64_t* pb = b.data();
-  for (std::size_t i = 0; i < a.word_count(); ++i) n += popcount(pa[i] & pb[i]);
-  return n;
-}
-
-std::size_t count_xor(const Bitmap& a, const Bitmap& b) {
-  std::size_t n = 0;
-  const std::uint64_t* pa = a.data();
-  const std::uint64_t* pb = b.data();
-  for (std::size_t i = 0; i < a.word_count(); ++i) n += popcount(pa[i] ^ pb[i]);
-  return n;
-}
-
-double iou(const Bitmap& a, const Bitmap& b) {
-  const std::size_t inter = count_and(a, b);
-  const std::size_t uni = a.count() + b.count() - inter;
-  return uni == 0 ? 1.0 : static_cast<double>(inter) / static_cast<double>(uni);
 }
 
 }  // namespace csgfit

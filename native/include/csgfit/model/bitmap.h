@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "csgfit/model/bit_grid.h"
+
 namespace csgfit {
 
 /// A W x H binary image stored row by row, 64 pixels per word. Row 0 is the top row of the
@@ -70,14 +72,5 @@ class Bitmap {
   int words_per_row_ = 0;
   std::vector<std::uint64_t> bits_;
 };
-
-/// Pixels set in a but not in b.
-std::size_t count_and_not(const Bitmap& a, const Bitmap& b);
-/// Pixels set in both.
-std::size_t count_and(const Bitmap& a, const Bitmap& b);
-/// Pixels that differ.
-std::size_t count_xor(const Bitmap& a, const Bitmap& b);
-/// Intersection over union; 1 when both are empty.
-double iou(const Bitmap& a, const Bitmap& b);
 
 }  // namespace csgfit

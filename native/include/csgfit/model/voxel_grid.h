@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "csgfit/model/bit_grid.h"
+
 namespace csgfit {
 
 /// A regular grid of nx x ny x nz voxels placed in model space: voxel (i, j, k) is the box
@@ -74,12 +76,5 @@ class VoxelGrid {
   int words_per_row_ = 0;
   std::vector<std::uint64_t> bits_;
 };
-
-/// Voxels set in a but not in b; in both; differing. Grids must have the same dimensions.
-std::size_t count_and_not(const VoxelGrid& a, const VoxelGrid& b);
-std::size_t count_and(const VoxelGrid& a, const VoxelGrid& b);
-std::size_t count_xor(const VoxelGrid& a, const VoxelGrid& b);
-/// Volume intersection over union of the set voxels; 1 when both are empty.
-double iou(const VoxelGrid& a, const VoxelGrid& b);
 
 }  // namespace csgfit
