@@ -33,10 +33,7 @@ std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, doubl
   std::size_t snapped = 0;
   double budget = pixel_budget;
   // Keeps `trial` (after re-fitting what it leaves free) if that costs at most the budget left.
-  LocalOptOptions refit;
-  refit.max_sweeps = 20;
-  refit.initial_step = 0.5;
-  refit.min_step = 0.0625;
+  LocalOptOptions refit = LocalOptOptions::pattern(20, 0.5, 0.0625);
   auto attempt = [&](std::size_t leaf, const Primitive& trial, bool angle_fixed, bool size_fixed) {
     if (trial == ev.leaf(leaf)) return false;
     const Primitive original = ev.leaf(leaf);

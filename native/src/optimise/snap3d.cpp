@@ -8,7 +8,7 @@
 
 namespace csgfit {
 
-constexpr double kRadToDeg = Moves3D::kRadToDeg;
+constexpr double kRadToDeg = moves::kRadToDeg;
 
 namespace {
 

@@ -131,10 +131,7 @@ void polish(MeshFitResult& out, const TriangleMesh& local, const VoxelGrid& coar
   // No prune here: the search pruned at its k already, and a prune rebuilds the fine
   // evaluator once per primitive removed (seconds past the budget on big trees). On the
   // search's own grid too: the staggered lattice shows what the search could not see.
-  LocalOptOptions lo;
-  lo.max_sweeps = 12;
-  lo.initial_step = std::max(1.0, 0.5 * ratio);
-  lo.min_step = 0.25;
+  LocalOptOptions lo = LocalOptOptions::pattern(12, std::max(1.0, 0.5 * ratio), 0.25);
   lo.deadline = deadline;
   optimize_leaves(ev, lo);
   snap_to_design_values(ev, snap_slack);

@@ -6,13 +6,13 @@
 
 #include "csgfit/model/primitive2d.h"
 #include "csgfit/refine/local_opt.h"
+#include "refine/moves.h"
 
 namespace csgfit {
 
 struct Moves2D {
   enum class Param { X, Y, W, H, Angle, Apex };
   static constexpr int kMaxParams = 6;
-  static constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
   /// Steps are in pixels.
   double unit = 1.0;
@@ -47,10 +47,7 @@ struct Moves2D {
         p.h += step;
         break;
       case Param::Angle: {
-        // Turn by the angle that moves the furthest point by about `step` pixels, at most 15 deg.
-        const double reach = std::max(0.5 * std::max(p.w, p.h), 1.0);
-        const double deg = std::clamp(step / reach * kRadToDeg, -15.0, 15.0);
-        p.angle += deg;
+        p.angle += moves::turn_degrees(step, std::max(0.5 * std::max(p.w, p.h), 1.0));
         break;
       }
       case Param::Apex:

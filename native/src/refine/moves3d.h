@@ -7,13 +7,13 @@
 
 #include "csgfit/model/primitive3d.h"
 #include "csgfit/refine/local_opt.h"
+#include "refine/moves.h"
 
 namespace csgfit {
 
 struct Moves3D {
   enum class Param { X, Y, Z, Dim0, Dim1, Dim2, TurnX, TurnY, TurnZ, Apex };
   static constexpr int kMaxParams = 10;
-  static constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
   /// Steps are in model units; one voxel is this long.
   double unit = 1.0;
@@ -84,9 +84,8 @@ struct Moves3D {
       case Param::TurnX:
       case Param::TurnY:
       case Param::TurnZ: {
-        // Turn about the local axis by the angle that moves the furthest point by about `step`,
-        // at most 15 degrees.
-        const double deg = std::clamp(step / std::max(reach(p), voxel) * kRadToDeg, -15.0, 15.0);
+        // About the local axis.
+        const double deg = moves::turn_degrees(step, std::max(reach(p), voxel));
         const Quaternion turn = Quaternion::from_axis_angle(
             param == Param::TurnX, param == Param::TurnY, param == Param::TurnZ, deg);
         p.rotation = p.rotation * turn;

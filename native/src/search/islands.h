@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <string>
@@ -20,6 +21,12 @@
 namespace csgfit::islands {
 
 using Clock = std::chrono::steady_clock;
+
+/// The point of a budget of `time_limit` seconds from `start` at fraction f of it.
+inline Clock::time_point at_fraction(Clock::time_point start, double time_limit, double f) {
+  return start + std::chrono::duration_cast<Clock::duration>(
+                     std::chrono::duration<double>(f * time_limit));
+}
 
 /// One island: its own random numbers (inside `ops`) and population.
 template <typename Ops>
@@ -66,6 +73,26 @@ struct Island {
 };
 
 /// Runs `work` on every island, one thread each.
+/// The island count for `threads` (0: one per hardware thread).
+inline int island_count(int threads) {
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  return std::max(1, threads > 0 ? threads : static_cast<int>(hw));
+}
+
+/// `count` islands with empty populations over one problem, each with its own random numbers
+/// drawn from `seed`: the same seed and count give the same islands.
+template <typename Ops, typename Problem>
+std::vector<Island<Ops>> make_islands(const Problem& problem, std::uint64_t seed, int count) {
+  std::vector<Island<Ops>> isles;
+  isles.reserve(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    const std::uint64_t island_seed =
+        rnd::splitmix(seed * 0x100000001b3ULL + static_cast<std::uint64_t>(i));
+    isles.push_back(Island<Ops>{Ops(problem, island_seed), {}, 0});
+  }
+  return isles;
+}
+
 template <typename Ops>
 void in_parallel(std::vector<Island<Ops>>& isles, const std::function<void(Island<Ops>&)>& work) {
   if (isles.size() == 1) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "csgfit/refine/local_opt.h"
@@ -11,6 +12,23 @@
 #include "model/random.h"
 
 namespace csgfit::search_ops {
+
+/// What one island's perturbations of either dimension hold: the shared problem, the island's
+/// random numbers and its counters.
+template <typename Problem>
+class IslandOperators {
+ public:
+  IslandOperators(const Problem& problem, std::uint64_t seed) : pb_(problem), rng_(seed) {}
+
+  std::size_t trees = 0;        ///< perturbations made
+  std::size_t evaluations = 0;  ///< tree evaluations they cost
+
+  rnd::Rng& rng() { return rng_; }
+
+ protected:
+  const Problem& pb_;
+  rnd::Rng rng_;
+};
 
 /// Seed 000's perturbations (Table 1) and INT.
 enum class Operator { Rep, Add, Cut, Mod, Intersect };

@@ -12,7 +12,7 @@
 #include "csgfit/model/tree2d.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/search/params.h"
-#include "model/random.h"
+#include "search/operators.h"
 
 namespace csgfit {
 
@@ -35,16 +35,10 @@ struct Problem2D {
 };
 
 /// One island's perturbations and their random numbers.
-class Operators2D {
+class Operators2D : public search_ops::IslandOperators<Problem2D> {
  public:
   using Candidate = Candidate2D;
-
-  Operators2D(const Problem2D& problem, std::uint64_t seed) : pb_(problem), rng_(seed) {}
-
-  std::size_t trees = 0;        ///< perturbations made
-  std::size_t evaluations = 0;  ///< tree evaluations they cost
-
-  rnd::Rng& rng() { return rng_; }
+  using IslandOperators::IslandOperators;
 
   /// Scores a tree after optimising the leaves equal to one of `fresh`, then all leaves a
   /// little, and pruning it.
@@ -65,9 +59,6 @@ class Operators2D {
   bool add(Node& tree, std::vector<Primitive>& fresh);
   // MOD: one primitive becomes another kind in the same place.
   bool mod(Node& tree, std::vector<Primitive>& fresh);
-
-  const Problem2D& pb_;
-  rnd::Rng rng_;
 };
 
 }  // namespace csgfit

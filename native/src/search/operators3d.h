@@ -13,7 +13,7 @@
 #include "csgfit/model/voxel_grid.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/search/params.h"
-#include "model/random.h"
+#include "search/operators.h"
 
 namespace csgfit {
 
@@ -39,16 +39,10 @@ struct Problem3D {
 };
 
 /// One island's perturbations and their random numbers.
-class Operators3D {
+class Operators3D : public search_ops::IslandOperators<Problem3D> {
  public:
   using Candidate = Candidate3D;
-
-  Operators3D(const Problem3D& problem, std::uint64_t seed) : pb_(problem), rng_(seed) {}
-
-  std::size_t trees = 0;        ///< perturbations made
-  std::size_t evaluations = 0;  ///< tree evaluations they cost
-
-  rnd::Rng& rng() { return rng_; }
+  using IslandOperators::IslandOperators;
 
   /// Optimises the fresh leaves (all leaves when polish_all) and scores the tree. Pruning is
   /// left to accept(): most perturbations are rejected, and for those it would be wasted.
@@ -66,9 +60,6 @@ class Operators3D {
   bool change_kind(Node3D& tree, std::vector<Primitive3D>& fresh, bool new_orientation);
   // INT: the tree (or a subtree) intersected with a round primitive matched to the target.
   bool intersect(Node3D& tree, std::vector<Primitive3D>& fresh);
-
-  const Problem3D& pb_;
-  rnd::Rng rng_;
 };
 
 }  // namespace csgfit

@@ -93,10 +93,7 @@ std::optional<RegionMatch> match_region(const Bitmap& region, PrimitiveSet allow
   // Refine the two most promising against the region: moments of a digitised shape are only
   // approximately those of the continuous one.
   const std::size_t refine = std::min<std::size_t>(2, candidates.size());
-  LocalOptOptions opt;
-  opt.max_sweeps = 12;
-  opt.initial_step = 1.0;
-  opt.min_step = 0.25;
+  const LocalOptOptions opt = LocalOptOptions::pattern(12, 1.0, 0.25);
   for (std::size_t i = 0; i < refine; ++i) {
     Node leaf = Node::leaf(candidates[i].p);
     TreeEvaluator ev(region, leaf);

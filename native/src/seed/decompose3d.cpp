@@ -193,10 +193,7 @@ Candidate refine_and_pick(std::vector<Candidate> cands, const VoxelGrid& region,
                           std::size_t voxels) {
   std::sort(cands.begin(), cands.end(), better);
   const std::size_t refine = std::min<std::size_t>(3, cands.size());
-  LocalOptOptions opt;
-  opt.max_sweeps = 10;
-  opt.initial_step = 1.0;
-  opt.min_step = 0.25;
+  const LocalOptOptions opt = LocalOptOptions::pattern(10, 1.0, 0.25);
   for (std::size_t i = 0; i < refine; ++i) {
     if (cands[i].mismatch == 0) continue;
     Node3D leaf = Node3D::leaf(cands[i].p);

@@ -59,10 +59,7 @@ Node greedy_cover(const Bitmap& target, const GreedyOptions& options) {
     if (options.primitives.has(k)) kinds.push_back(k);
   if (kinds.empty()) throw std::invalid_argument("no primitive type allowed");
 
-  LocalOptOptions opt;
-  opt.max_sweeps = 40;
-  opt.initial_step = 2.0;
-  opt.min_step = 0.25;
+  LocalOptOptions opt = LocalOptOptions::pattern(40, 2.0, 0.25);
   LocalOptOptions settle = opt;
   settle.max_sweeps = 4;
   settle.initial_step = 0.5;

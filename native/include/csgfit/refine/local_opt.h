@@ -26,6 +26,15 @@ struct LocalOptOptions {
   /// Checked with the deadline: when set and true the optimiser stops the same way (a
   /// cancelled fit must not wait for a long polish).
   const std::atomic<bool>* cancel = nullptr;
+
+  /// At most `sweeps` passes, from steps of `initial` down to `min`; the rest as defaulted.
+  static LocalOptOptions pattern(int sweeps, double initial, double min) {
+    LocalOptOptions o;
+    o.max_sweeps = sweeps;
+    o.initial_step = initial;
+    o.min_step = min;
+    return o;
+  }
 };
 
 /// Pattern search on the parameters of the given leaves (all leaves when `leaf_indices` is
