@@ -9,7 +9,6 @@
 #include <map>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include "csgfit/eval/evaluator2d.h"
 #include "csgfit/features/features2d.h"
@@ -18,6 +17,7 @@
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose2d.h"
 #include "csgfit/seed/greedy2d.h"
+#include "pipeline/fit_request.h"
 #include "search/islands.h"
 #include "search/operators2d.h"
 
@@ -31,13 +31,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using Candidate = Candidate2D;
+using islands::at_fraction;
 using Island = islands::Island<Operators2D>;
-
-// The point of the budget at fraction f of it.
-Clock::time_point at_fraction(Clock::time_point start, double time_limit, double f) {
-  return start + std::chrono::duration_cast<Clock::duration>(
-                     std::chrono::duration<double>(f * time_limit));
-}
 
 Problem2D make_problem(const Bitmap& target, const FitOptions& options, Clock::time_point start) {
   Problem2D pb;
@@ -47,12 +42,8 @@ Problem2D make_problem(const Bitmap& target, const FitOptions& options, Clock::t
   for (PrimitiveKind k : {PrimitiveKind::Rectangle, PrimitiveKind::Circle, PrimitiveKind::Ellipse,
                           PrimitiveKind::Triangle})
     if (options.primitives.has(k)) pb.kinds.push_back(k);
-  pb.new_leaf_opt.max_sweeps = pb.params.local_iterations;
-  pb.new_leaf_opt.initial_step = 2.0;
-  pb.new_leaf_opt.min_step = 0.25;
-  pb.all_leaf_opt.max_sweeps = 3;
-  pb.all_leaf_opt.initial_step = 0.5;
-  pb.all_leaf_opt.min_step = 0.25;
+  pb.new_leaf_opt = LocalOptOptions::pattern(pb.params.local_iterations, 2.0, 0.25);
+  pb.all_leaf_opt = LocalOptOptions::pattern(3, 0.5, 0.25);
   // --time bounds the wall time: no single tree's optimisation may run past it.
   pb.new_leaf_opt.deadline = pb.all_leaf_opt.deadline =
       at_fraction(start, options.time_limit, 1.0);
@@ -77,10 +68,7 @@ Seeds seed_trees(const Bitmap& target, const FitOptions& options, const Problem2
     dopt.primitives = options.primitives;
     dopt.k = pb.k;
     Node seed_tree = decompose(target, dopt);
-    LocalOptOptions polish;
-    polish.max_sweeps = pb.params.local_iterations;
-    polish.initial_step = 1.0;
-    polish.min_step = 0.125;
+    LocalOptOptions polish = LocalOptOptions::pattern(pb.params.local_iterations, 1.0, 0.125);
     polish.deadline = at_fraction(start, options.time_limit, 0.5);
     {
       TreeEvaluator ev(target, seed_tree);
@@ -151,10 +139,7 @@ class Archive {
 // nothing, then its boundaries moved off pixel centres.
 Candidate polish(Candidate best, const Bitmap& target, const FitOptions& options,
                  const Problem2D& pb, Clock::time_point start, std::size_t& evaluations) {
-  LocalOptOptions lo;
-  lo.max_sweeps = pb.params.local_iterations;
-  lo.initial_step = 0.5;
-  lo.min_step = 1.0 / 32;
+  LocalOptOptions lo = LocalOptOptions::pattern(pb.params.local_iterations, 0.5, 1.0 / 32);
   lo.deadline = at_fraction(start, options.time_limit, 1.05);  // a grace: it makes the numbers clean
   Node tree = best.tree;
   {
@@ -189,22 +174,14 @@ FitStats stats_of(const Candidate& c, const Bitmap& target, double k) {
 FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
                      const ProgressCallback& progress, const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
-  if (target.empty() || target.count() == 0) throw std::invalid_argument("no shape found");
-  if (options.primitives.empty()) throw std::invalid_argument("no primitive type allowed");
-  if (!(options.time_limit > 0)) throw std::invalid_argument("the time budget must be positive");
+  check_fit_request(target, options.primitives, options.time_limit);
   const Problem2D pb = make_problem(target, options, start);
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
 
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const int threads = options.threads > 0 ? options.threads : static_cast<int>(hw);
-  const int count = std::max(1, std::min(threads, std::max(1, pb.params.population)));
+  const int count =
+      std::min(islands::island_count(options.threads), std::max(1, pb.params.population));
   const std::size_t per_island = static_cast<std::size_t>(std::max(2, pb.params.population / count));
-  std::vector<Island> isles;
-  isles.reserve(static_cast<std::size_t>(count));
-  for (int i = 0; i < count; ++i)
-    isles.push_back(Island{Operators2D(pb, rnd::splitmix(options.seed * 0x100000001b3ULL +
-                                                         static_cast<std::uint64_t>(i))),
-                           {}, 0});
+  std::vector<Island> isles = islands::make_islands<Operators2D>(pb, options.seed, count);
   std::size_t evaluations = 0;
   const Seeds seeds = seed_trees(target, options, pb, isles[0].ops, start, evaluations);
   fill_populations(isles, seeds, pb, per_island, [&] {

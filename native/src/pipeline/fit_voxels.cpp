@@ -6,12 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-#include <thread>
 
 #include "csgfit/eval/evaluator3d.h"
 #include "csgfit/optimise/prune.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose3d.h"
+#include "pipeline/fit_request.h"
 #include "search/islands.h"
 #include "search/operators3d.h"
 
@@ -26,12 +26,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using Candidate = Candidate3D;
+using islands::at_fraction;
 using Island = islands::Island<Operators3D>;
-
-Clock::time_point at_fraction(Clock::time_point start, double time_limit, double f) {
-  return start + std::chrono::duration_cast<Clock::duration>(
-                     std::chrono::duration<double>(f * time_limit));
-}
 
 Problem3D make_problem(const VoxelGrid& target, const FitOptions3D& options,
                        Clock::time_point start, const std::atomic<bool>* cancel) {
@@ -43,12 +39,8 @@ Problem3D make_problem(const VoxelGrid& target, const FitOptions3D& options,
   for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::TriangularPrism); ++i)
     if (options.primitives.has(static_cast<PrimitiveKind3D>(i)))
       pb.kinds.push_back(static_cast<PrimitiveKind3D>(i));
-  pb.new_leaf_opt.max_sweeps = 30;
-  pb.new_leaf_opt.initial_step = 1.0;
-  pb.new_leaf_opt.min_step = 0.25;
-  pb.all_leaf_opt.max_sweeps = 2;
-  pb.all_leaf_opt.initial_step = 0.5;
-  pb.all_leaf_opt.min_step = 0.25;
+  pb.new_leaf_opt = LocalOptOptions::pattern(30, 1.0, 0.25);
+  pb.all_leaf_opt = LocalOptOptions::pattern(2, 0.5, 0.25);
   for (PrimitiveKind3D kind :
        {PrimitiveKind3D::Sphere, PrimitiveKind3D::Cylinder, PrimitiveKind3D::Ellipsoid}) {
     if (!options.primitives.has(kind)) continue;
@@ -77,10 +69,7 @@ Candidate seed_tree(const VoxelGrid& target, const FitOptions3D& options, const 
   dopt.time_limit = 0.3 * options.time_limit;
   dopt.cancel = cancel;
   Node3D tree = decompose3d(target, dopt);
-  LocalOptOptions polish;
-  polish.max_sweeps = 20;
-  polish.initial_step = 1.0;
-  polish.min_step = 0.25;
+  LocalOptOptions polish = LocalOptOptions::pattern(20, 1.0, 0.25);
   polish.deadline = at_fraction(start, options.time_limit, 0.6);
   polish.cancel = cancel;
   const double polish_start = elapsed();
@@ -100,10 +89,7 @@ Candidate seed_tree(const VoxelGrid& target, const FitOptions3D& options, const 
 Candidate polish(Candidate best, const VoxelGrid& target, const FitOptions3D& options,
                  const Problem3D& pb, Clock::time_point start, const std::atomic<bool>* cancel,
                  std::size_t& evaluations) {
-  LocalOptOptions lo;
-  lo.max_sweeps = 20;
-  lo.initial_step = 0.5;
-  lo.min_step = 1.0 / 16;
+  LocalOptOptions lo = LocalOptOptions::pattern(20, 0.5, 1.0 / 16);
   // The polish ends with the budget (the search stopped early enough to leave it time).
   lo.deadline = at_fraction(start, options.time_limit, 1.0);
   lo.cancel = cancel;
@@ -127,21 +113,13 @@ Candidate polish(Candidate best, const VoxelGrid& target, const FitOptions3D& op
 FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
                        const ProgressCallback& progress, const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
-  if (target.empty() || target.count() == 0) throw std::invalid_argument("no shape found");
-  if (options.primitives.empty()) throw std::invalid_argument("no primitive type allowed");
+  check_fit_request(target, options.primitives, options.time_limit);
   if (!options.primitives.has(PrimitiveKind3D::Box))
     throw std::invalid_argument("the 3D fit needs boxes among the primitives");
-  if (!(options.time_limit > 0)) throw std::invalid_argument("the time budget must be positive");
   const Problem3D pb = make_problem(target, options, start, cancel);
 
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const int count = std::max(1, options.threads > 0 ? options.threads : static_cast<int>(hw));
-  std::vector<Island> isles;
-  isles.reserve(static_cast<std::size_t>(count));
-  for (int i = 0; i < count; ++i)
-    isles.push_back(Island{Operators3D(pb, rnd::splitmix(options.seed * 0x100000001b3ULL +
-                                                         static_cast<std::uint64_t>(i))),
-                           {}, 0});
+  std::vector<Island> isles =
+      islands::make_islands<Operators3D>(pb, options.seed, islands::island_count(options.threads));
   std::size_t evaluations = 0;
   double search_limit = options.time_limit;
   const Candidate first =
