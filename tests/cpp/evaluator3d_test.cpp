@@ -1,141 +1,28 @@
-// The 3D tree, its incremental evaluator and its signed distance against brute-force
-// pointwise evaluation on random trees (as evaluator_test.cpp does in 2D).
+// What only the 3D tree and evaluator do: signed distances, the count beyond the grid, the
+// staggered lattice (the contract both dimensions share is evaluator_contract_test.cpp).
 #include "csgfit/eval/evaluator3d.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
 #include <random>
 
 #include "csgfit/model/tree3d.h"
+#include "evaluator_reference.h"
 
 using namespace csgfit;
 
 namespace {
 
-constexpr int kNx = 40, kNy = 36, kNz = 32;
-const VoxelGrid kFrame(kNx, kNy, kNz, -1.0, 0.5, 2.0, 0.5);
+using reference::mismatch_of;
+using reference::Solid;
+constexpr int kNx = Solid::kNx, kNy = Solid::kNy, kNz = Solid::kNz;
+const VoxelGrid kFrame = Solid::frame();
 
-Primitive3D random_primitive(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> px(2, 17), py(3, 16), pz(4, 16), dim(2, 12),
-      apex(-1, 1), unit(0, 1);
-  std::normal_distribution<double> g(0, 1);
-  Quaternion q{g(rng), g(rng), g(rng), g(rng)};
-  q.normalize();
-  const double x = px(rng), y = py(rng), z = pz(rng);
-  switch (rng() % 7) {
-    case 0: return Primitive3D::box(x, y, z, dim(rng), dim(rng), dim(rng), q);
-    case 1: return Primitive3D::sphere(x, y, z, dim(rng) / 2);
-    case 2: return Primitive3D::cylinder(x, y, z, dim(rng) / 2, dim(rng), q);
-    case 3: return Primitive3D::cone(x, y, z, dim(rng) / 2, dim(rng) / 4, dim(rng), q);
-    case 4: return Primitive3D::ellipsoid(x, y, z, dim(rng) / 2, dim(rng) / 2, dim(rng) / 2, q);
-    case 5: {
-      const double R = dim(rng) / 2;
-      return Primitive3D::torus(x, y, z, R, R * (0.2 + 0.7 * unit(rng)), q);
-    }
-    default: return Primitive3D::prism(x, y, z, dim(rng), dim(rng), dim(rng), apex(rng), q);
-  }
-}
-
-Node3D random_tree(std::mt19937_64& rng, int depth) {
-  if (depth == 0 || rng() % 4 == 0) return Node3D::leaf(random_primitive(rng));
-  static const NodeKind ops[3] = {NodeKind::Union, NodeKind::Difference, NodeKind::Intersection};
-  std::vector<Node3D> children;
-  const int n = 2 + static_cast<int>(rng() % 3);
-  for (int i = 0; i < n; ++i) children.push_back(random_tree(rng, depth - 1));
-  return Node3D::op(ops[rng() % 3], std::move(children));
-}
-
-// The obviously-correct evaluator: one voxel centre at a time.
-VoxelGrid brute_force(const Node3D& n) {
-  VoxelGrid g = kFrame;
-  g.clear();
-  for (int k = 0; k < kNz; ++k)
-    for (int j = 0; j < kNy; ++j)
-      for (int i = 0; i < kNx; ++i)
-        if (contains(n, g.center_x(i), g.center_y(j), g.center_z(k))) g.set(i, j, k);
-  return g;
-}
-
-Mismatch mismatch_of(const VoxelGrid& raster, const VoxelGrid& target) {
-  return {count_and_not(raster, target), count_and_not(target, raster)};
-}
+Primitive3D random_primitive(std::mt19937_64& rng) { return Solid::random_primitive(rng); }
+Node3D random_tree(std::mt19937_64& rng, int depth) { return Solid::random_tree(rng, depth); }
 
 }  // namespace
-
-TEST(Tree3D, RenderMatchesBruteForceOnRandomTrees) {
-  std::mt19937_64 rng(3);
-  std::size_t covered = 0;
-  for (int i = 0; i < 120; ++i) {
-    const Node3D t = random_tree(rng, 3);
-    const VoxelGrid r = render(t, kFrame);
-    ASSERT_EQ(r, brute_force(t)) << structure_string(t);
-    covered += r.count();
-  }
-  EXPECT_GT(covered, 10000u);
-}
-
-TEST(Evaluator3D, IncrementalUpdatesMatchFullEvaluation) {
-  std::mt19937_64 rng(5);
-  const VoxelGrid target = brute_force(random_tree(rng, 2));
-  for (int i = 0; i < 30; ++i) {
-    Node3D t = random_tree(rng, 3);
-    TreeEvaluator3D ev(target, t);
-    const Mismatch initial = mismatch_of(brute_force(t), target);
-    ASSERT_EQ(ev.mismatch().excess, initial.excess);
-    ASSERT_EQ(ev.mismatch().uncovered, initial.uncovered);
-    for (int step = 0; step < 12; ++step) {
-      const std::size_t leaf = rng() % ev.leaf_count();
-      const Primitive3D p = random_primitive(rng);
-      const Mismatch predicted = ev.try_leaf(leaf, p);
-      ev.leaf(leaf) = p;
-      const Mismatch updated = ev.update_leaf(leaf);
-      const VoxelGrid reference = brute_force(t);
-      const Mismatch expected = mismatch_of(reference, target);
-      ASSERT_EQ(ev.result(), reference) << structure_string(t);
-      ASSERT_EQ(updated.excess, expected.excess);
-      ASSERT_EQ(updated.uncovered, expected.uncovered);
-      ASSERT_EQ(predicted.excess, expected.excess);
-      ASSERT_EQ(predicted.uncovered, expected.uncovered);
-    }
-  }
-}
-
-TEST(Evaluator3D, TryWithoutLeafMatchesRemovingIt) {
-  std::mt19937_64 rng(9);
-  const VoxelGrid target = brute_force(random_tree(rng, 2));
-  for (int i = 0; i < 60; ++i) {
-    Node3D t = random_tree(rng, 3);
-    if (t.primitive_count() < 2) continue;
-    TreeEvaluator3D ev(target, t);
-    const std::size_t leaf = rng() % ev.leaf_count();
-    const Mismatch predicted = ev.try_without_leaf(leaf);
-    Node3D copy = t;
-    std::vector<Primitive3D*> ls = leaves(copy);
-    const Primitive3D* victim = ls[leaf];
-    std::function<bool(Node3D&)> erase = [&](Node3D& n) {
-      for (std::size_t c = 0; c < n.children.size(); ++c) {
-        if (n.children[c].is_leaf() && &n.children[c].primitive == victim) {
-          if (n.kind == NodeKind::Difference && c == 0)
-            n.children.clear();
-          else
-            n.children.erase(n.children.begin() + static_cast<long>(c));
-          return true;
-        }
-        if (erase(n.children[c])) return true;
-      }
-      return false;
-    };
-    erase(copy);
-    VoxelGrid reference = kFrame;
-    reference.clear();
-    if (simplify(copy)) reference = brute_force(copy);
-    const Mismatch expected = mismatch_of(reference, target);
-    ASSERT_EQ(predicted.excess, expected.excess) << structure_string(t) << " leaf " << leaf;
-    ASSERT_EQ(predicted.uncovered, expected.uncovered) << structure_string(t) << " leaf " << leaf;
-  }
-}
 
 TEST(Evaluator3D, CountsEvaluations) {
   std::mt19937_64 rng(2);
@@ -222,25 +109,6 @@ TEST(Evaluator3D, StaggeredLatticeSeesASheetBetweenRowsOfCentres) {
       Node3D::op(NodeKind::Difference, {part, Node3D::leaf(Primitive3D::box(10, 10, 8, 14, 14, 0.4))});
   EXPECT_EQ(TreeEvaluator3D(target, slit).mismatch().total(), 0u);
   EXPECT_EQ(TreeEvaluator3D(target, staggered, slit).mismatch().uncovered, 11u * 11);
-}
-
-TEST(Tree3D, SimplifyKeepsTheShapeAndFlattens) {
-  std::mt19937_64 rng(13);
-  for (int i = 0; i < 100; ++i) {
-    Node3D t = random_tree(rng, 4);
-    const VoxelGrid before = render(t, kFrame);
-    Node3D s = t;
-    ASSERT_TRUE(simplify(s));
-    ASSERT_EQ(render(s, kFrame), before) << structure_string(t) << " -> " << structure_string(s);
-    ASSERT_EQ(s.primitive_count(), t.primitive_count());
-    for_each_node(s, [&](const Node3D& n, std::size_t) {
-      if (n.is_leaf()) return;
-      ASSERT_GE(n.children.size(), 2u);
-      for (const Node3D& c : n.children)
-        if (n.kind == NodeKind::Union || n.kind == NodeKind::Intersection)
-          ASSERT_NE(c.kind, n.kind);
-    });
-  }
 }
 
 TEST(Tree3D, SignedDistanceSignAgreesWithContains) {
