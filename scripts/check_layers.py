@@ -6,13 +6,18 @@ The data flow runs model < eval < features < refine < seed < optimise < search <
 error type). A header or source of one stage (native/include/csgfit/STAGE/ and
 native/src/STAGE/) that includes a header of a later stage is reported, and so is any solver
 file that includes the writers (openscad_export/, step_export/) or the front ends.
+
+    check_layers.py [--repo DIR]
+
 Exit status 0 when the layering holds, 1 otherwise.
 """
+import argparse
 import os
 import re
 import sys
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from source_tree import REPO, report, sources
+
 BASE = "base"  # error.h: what every stage may throw
 STAGES = [BASE, "model", "eval", "features", "refine", "seed", "optimise", "search", "pipeline", "io"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
@@ -39,32 +44,29 @@ def stage_of_include(path):
     return None
 
 
-def main():
-    problems = []
-    for root in ("native/include/csgfit", "native/src"):
-        for folder, _, files in os.walk(os.path.join(REPO, root)):
-            for name in sorted(files):
-                if not name.endswith((".h", ".cpp")):
-                    continue
-                rel = os.path.relpath(os.path.join(folder, name), REPO)
-                own = stage_of_file(rel)
-                if own not in STAGES:
-                    problems.append(f"{rel}: not in a stage folder")
-                    continue
-                with open(os.path.join(REPO, rel)) as f:
-                    text = f.read()
-                for inc in INCLUDE.findall(text):
-                    if os.path.basename(inc).startswith(WRITERS):
-                        problems.append(f"{rel}: includes the writer {inc}")
-                        continue
-                    other = stage_of_include(inc)
-                    if other in STAGES and STAGES.index(other) > STAGES.index(own):
-                        problems.append(f"{rel} ({own}) includes {inc} ({other}), a later stage")
-    for p in problems:
-        print("layers:", p)
-    print(f"layers: {'ok' if not problems else str(len(problems)) + ' problem(s)'}")
-    return 1 if problems else 0
+def problems_of(rel, text):
+    """What one file breaks: its stage, or includes of writers or of later stages."""
+    own = stage_of_file(rel)
+    if own not in STAGES:
+        return [f"{rel}: not in a stage folder"]
+    found = []
+    for inc in INCLUDE.findall(text):
+        other = stage_of_include(inc)
+        if os.path.basename(inc).startswith(WRITERS):
+            found.append(f"{rel}: includes the writer {inc}")
+        elif other in STAGES and STAGES.index(other) > STAGES.index(own):
+            found.append(f"{rel} ({own}) includes {inc} ({other}), a later stage")
+    return found
 
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--repo", default=REPO, help="the source tree (default: this one)")
+    args = parser.parse_args()
+    problems = []
+    for rel, text in sources(args.repo, ("native/include/csgfit", "native/src")):
+        problems += problems_of(rel, text)
+    return report("layers", problems, "problem(s)")
 
 if __name__ == "__main__":
     sys.exit(main())

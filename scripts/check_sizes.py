@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Reports source files and functions over the size limits of the solver's code.
 
-    check_sizes.py [--max-file 650] [--max-function 120] [DIR ...]
+    check_sizes.py [--repo DIR] [--max-file 650] [--max-function 120] [FOLDER ...]
 
 Files are counted in lines; a function from its signature to its closing brace. Functions are
 found by their braces: a block opened after a closing parenthesis (or `) const` and the like)
@@ -9,12 +9,11 @@ that is not a control statement or a lambda. Default folders: native/, openscad_
 step_export/ (and bench/). Exit status 0 when everything is within the limits, 1 otherwise.
 """
 import argparse
-import os
 import re
 import sys
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SOURCES = (".h", ".cpp")
+from source_tree import REPO, report, sources
+
 CONTROL = re.compile(r"\b(if|for|while|switch|catch|else|do)\b[^;]*$")
 SIGNATURE_END = re.compile(r"\)\s*(const)?\s*(noexcept)?\s*(override)?\s*(->\s*[\w:<>,\s*&]+)?\s*\{\s*$")
 
@@ -56,34 +55,29 @@ def functions(lines):
     return found
 
 
+def problems_of(rel, lines, max_file, max_function):
+    found = []
+    if len(lines) > max_file:
+        found.append(f"{rel}: {len(lines)} lines (limit {max_file})")
+    for start, end in functions(lines):
+        length = end - start + 1
+        if length > max_function:
+            found.append(f"{rel}:{start + 1}: a function of {length} lines "
+                         f"(limit {max_function}): {lines[start].strip()[:70]}")
+    return found
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("dirs", nargs="*", default=["native", "openscad_export", "step_export", "bench"])
+    parser.add_argument("--repo", default=REPO, help="the source tree (default: this one)")
     parser.add_argument("--max-file", type=int, default=650)
     parser.add_argument("--max-function", type=int, default=120)
     args = parser.parse_args()
     problems = []
-    for d in args.dirs:
-        for folder, _, files in os.walk(os.path.join(REPO, d)):
-            for name in sorted(files):
-                if not name.endswith(SOURCES):
-                    continue
-                path = os.path.join(folder, name)
-                rel = os.path.relpath(path, REPO)
-                with open(path, errors="replace") as f:
-                    lines = f.read().splitlines()
-                if len(lines) > args.max_file:
-                    problems.append(f"{rel}: {len(lines)} lines (limit {args.max_file})")
-                for start, end in functions(lines):
-                    length = end - start + 1
-                    if length > args.max_function:
-                        problems.append(f"{rel}:{start + 1}: a function of {length} lines "
-                                        f"(limit {args.max_function}): {lines[start].strip()[:70]}")
-    for p in problems:
-        print("sizes:", p)
-    print(f"sizes: {'ok' if not problems else str(len(problems)) + ' over the limits'}")
-    return 1 if problems else 0
-
+    for rel, text in sources(args.repo, args.dirs):
+        problems += problems_of(rel, text.splitlines(), args.max_file, args.max_function)
+    return report("sizes", problems, "over the limits")
 
 if __name__ == "__main__":
     sys.exit(main())

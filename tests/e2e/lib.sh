@@ -1,7 +1,7 @@
 # Sourced by every tests/e2e/*_test.sh (CTest runs each as `bash SCRIPT CLI SOURCE_DIR`): the
 # arguments, the skips, the scratch folder and the failure count they all start with, and the
-# run of a benchmark driver that both smoke tests make. Not a test itself, so its name does not
-# end in _test.sh (tests/CMakeLists.txt takes every file that does).
+# run of a benchmark driver that both smoke tests make. Not a test itself: tests/CMakeLists.txt
+# lists the tests (CSGFIT_E2E_TESTS), each NAME_test.sh here.
 
 PY=/usr/bin/python3
 E2E_NAME=$(basename "$0" _test.sh)
