@@ -22,6 +22,8 @@ import re
 import subprocess
 import sys
 
+import benchlib
+
 SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
 REPO_DIR = os.path.dirname(SCRIPT_DIR)
 DOC_BEGIN = "<!-- micro:begin -->"
@@ -197,20 +199,6 @@ def report(data, runs, errors, args):
     return "\n".join(out)
 
 
-def write_doc(path, text):
-    try:
-        with open(path) as f:
-            doc = f.read()
-    except OSError as e:
-        raise SystemExit("cannot read %s: %s" % (path, e.strerror))
-    begin, end = doc.find(DOC_BEGIN), doc.find(DOC_END)
-    if begin < 0 or end < begin:
-        raise SystemExit("%s has no %s ... %s section" % (path, DOC_BEGIN, DOC_END))
-    doc = doc[:begin + len(DOC_BEGIN)] + "\n" + text + doc[end:]
-    with open(path, "w") as f:
-        f.write(doc)
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bench", default=os.path.join(REPO_DIR, "build", "bin", "csgfit_bench"),
@@ -240,7 +228,7 @@ def main(argv=None):
             print("not writing %s: the run had errors" % args.write_doc, file=sys.stderr)
         return 1
     if args.write_doc:
-        write_doc(args.write_doc, text)
+        benchlib.write_doc(args.write_doc, text, DOC_BEGIN, DOC_END)
         print("wrote %s" % args.write_doc, file=sys.stderr)
     return 0
 

@@ -324,8 +324,11 @@ def write_csv(path, rows, fields):
 
 def write_doc(path, text, begin_marker, end_marker):
     """Replaces what stands between the two markers of the Markdown file `path` by `text`."""
-    with open(path) as f:
-        doc = f.read()
+    try:
+        with open(path) as f:
+            doc = f.read()
+    except OSError as e:
+        raise SystemExit("cannot read %s: %s" % (path, e.strerror))
     begin, end = doc.find(begin_marker), doc.find(end_marker)
     if begin < 0 or end < begin:
         raise SystemExit("%s has no %s ... %s section" % (path, begin_marker, end_marker))
