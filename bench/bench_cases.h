@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "csgfit/eval/evaluator2d.h"
@@ -146,6 +148,18 @@ Case<D> make_case(std::size_t leaves, int size, std::uint64_t seed) {
     c.moves.push_back({leaf, D::perturb(rng, *prims[leaf])});
   }
   return c;
+}
+
+/// Google Benchmark calls a benchmark function several times while it sizes the iteration
+/// count: a case (and its check, often hundreds of full renders) is made once per pair of
+/// arguments, by `make(a, b)`, and shared by every benchmark of the same pair.
+template <class Value, class Make>
+const Value& cached(std::int64_t a, std::int64_t b, Make&& make) {
+  static std::map<std::pair<std::int64_t, std::int64_t>, Value> cases;
+  const auto key = std::make_pair(a, b);
+  auto it = cases.find(key);
+  if (it == cases.end()) it = cases.emplace(key, make(a, b)).first;
+  return it->second;
 }
 
 /// Seed 000's evaluation: scan-convert every primitive, combine the whole tree, count.

@@ -53,21 +53,16 @@ std::string check(const Case<D>& c) {
   return {};
 }
 
-/// Google Benchmark calls a benchmark function several times while it sizes the iteration
-/// count; the case (and its check, a few hundred full renders) is built once and shared by the
-/// three benchmarks of the same tree and grid.
+/// The case of a benchmark's arguments (leaves, size), with its check.
 template <class D>
 const Case<D>& cached_case(const benchmark::State& state) {
-  static std::map<std::pair<std::int64_t, std::int64_t>, Case<D>> cases;
-  const auto key = std::make_pair(state.range(0), state.range(1));
-  auto it = cases.find(key);
-  if (it == cases.end()) {
-    Case<D> c = make_case<D>(static_cast<std::size_t>(key.first), static_cast<int>(key.second),
-                             /*seed=*/1000 + static_cast<std::uint64_t>(key.first));
-    c.error = check(c);
-    it = cases.emplace(key, std::move(c)).first;
-  }
-  return it->second;
+  return cached<Case<D>>(
+      state.range(0), state.range(1), [](std::int64_t leaves, std::int64_t size) {
+        Case<D> c = make_case<D>(static_cast<std::size_t>(leaves), static_cast<int>(size),
+                                 /*seed=*/1000 + static_cast<std::uint64_t>(leaves));
+        c.error = check(c);
+        return c;
+      });
 }
 
 template <class D>
@@ -80,35 +75,33 @@ bool ready(benchmark::State& state, const Case<D>& c) {
   return true;
 }
 
-/// A move the local optimiser considers: try_leaf scores it and changes nothing.
-template <class D>
-void incremental_try(benchmark::State& state) {
-  const Case<D>& c = cached_case<D>(state);
-  if (!ready(state, c)) return;
-  typename D::Tree tree = c.tree;
-  typename D::Evaluator evaluator(c.target, tree);
+/// Gives `evaluate` one of the case's moves per iteration, round and round.
+template <class D, class Evaluate>
+void over_moves(benchmark::State& state, const Case<D>& c, Evaluate&& evaluate) {
   std::size_t k = 0;
   for (auto _ : state) {
-    const Move<D>& m = c.moves[k];
-    benchmark::DoNotOptimize(evaluator.try_leaf(m.leaf, m.prim));
+    evaluate(c.moves[k]);
     k = k + 1 == c.moves.size() ? 0 : k + 1;
   }
 }
 
-/// A move the local optimiser keeps: the leaf changes and update_leaf recombines its path.
-template <class D>
-void incremental_update(benchmark::State& state) {
+/// The incremental evaluator on the moves the local optimiser makes: with kKeep false a move it
+/// considers (try_leaf scores it and changes nothing), with kKeep true one it keeps (the leaf
+/// changes and update_leaf recombines its path).
+template <class D, bool kKeep>
+void incremental(benchmark::State& state) {
   const Case<D>& c = cached_case<D>(state);
   if (!ready(state, c)) return;
   typename D::Tree tree = c.tree;
   typename D::Evaluator evaluator(c.target, tree);
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const Move<D>& m = c.moves[k];
-    evaluator.leaf(m.leaf) = m.prim;
-    benchmark::DoNotOptimize(evaluator.update_leaf(m.leaf));
-    k = k + 1 == c.moves.size() ? 0 : k + 1;
-  }
+  over_moves(state, c, [&](const Move<D>& m) {
+    if constexpr (kKeep) {
+      evaluator.leaf(m.leaf) = m.prim;
+      benchmark::DoNotOptimize(evaluator.update_leaf(m.leaf));
+    } else {
+      benchmark::DoNotOptimize(evaluator.try_leaf(m.leaf, m.prim));
+    }
+  });
 }
 
 /// The plain evaluator keeps no state, so scoring a tried move and an accepted one is the same
@@ -119,22 +112,19 @@ void plain(benchmark::State& state) {
   if (!ready(state, c)) return;
   typename D::Tree tree = c.tree;
   const auto prims = csgfit::leaves(tree);
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const Move<D>& m = c.moves[k];
+  over_moves(state, c, [&](const Move<D>& m) {
     const typename D::Prim kept = *prims[m.leaf];
     *prims[m.leaf] = m.prim;
     benchmark::DoNotOptimize(plain_mismatch<D>(tree, c.target));
     *prims[m.leaf] = kept;
-    k = k + 1 == c.moves.size() ? 0 : k + 1;
-  }
+  });
 }
 
-void Eval2D_IncrementalTry(benchmark::State& state) { incremental_try<Flat>(state); }
-void Eval2D_IncrementalUpdate(benchmark::State& state) { incremental_update<Flat>(state); }
+void Eval2D_IncrementalTry(benchmark::State& state) { incremental<Flat, false>(state); }
+void Eval2D_IncrementalUpdate(benchmark::State& state) { incremental<Flat, true>(state); }
 void Eval2D_Plain(benchmark::State& state) { plain<Flat>(state); }
-void Eval3D_IncrementalTry(benchmark::State& state) { incremental_try<Solid>(state); }
-void Eval3D_IncrementalUpdate(benchmark::State& state) { incremental_update<Solid>(state); }
+void Eval3D_IncrementalTry(benchmark::State& state) { incremental<Solid, false>(state); }
+void Eval3D_IncrementalUpdate(benchmark::State& state) { incremental<Solid, true>(state); }
 void Eval3D_Plain(benchmark::State& state) { plain<Solid>(state); }
 
 void cases_2d(benchmark::internal::Benchmark* b) {

@@ -11,7 +11,6 @@
 
 #include "bench_cases.h"
 #include "csgfit/refine/local_opt.h"
-#include "csgfit/refine/local_opt.h"
 
 namespace {
 
@@ -54,23 +53,21 @@ std::string check(Polish<D>& p) {
   return {};
 }
 
+/// The perturbed tree of a benchmark's arguments (leaves, size), with its check.
 template <class D>
 const Polish<D>& cached_polish(const benchmark::State& state) {
-  static std::map<std::pair<std::int64_t, std::int64_t>, Polish<D>> cases;
-  const auto key = std::make_pair(state.range(0), state.range(1));
-  auto it = cases.find(key);
-  if (it == cases.end()) {
-    const std::uint64_t seed = 2000 + static_cast<std::uint64_t>(key.first);
-    Polish<D> p;
-    p.start = tree_with_leaves<D>(static_cast<std::size_t>(key.first),
-                                  static_cast<int>(key.second), seed);
-    p.target = D::render(p.start, D::frame(static_cast<int>(key.second)));
-    std::mt19937_64 rng(seed);
-    for (auto* prim : csgfit::leaves(p.start)) *prim = D::perturb(rng, D::perturb(rng, *prim));
-    p.error = check(p);
-    it = cases.emplace(key, std::move(p)).first;
-  }
-  return it->second;
+  return cached<Polish<D>>(
+      state.range(0), state.range(1), [](std::int64_t leaves, std::int64_t size) {
+        const std::uint64_t seed = 2000 + static_cast<std::uint64_t>(leaves);
+        Polish<D> p;
+        p.start =
+            tree_with_leaves<D>(static_cast<std::size_t>(leaves), static_cast<int>(size), seed);
+        p.target = D::render(p.start, D::frame(static_cast<int>(size)));
+        std::mt19937_64 rng(seed);
+        for (auto* prim : csgfit::leaves(p.start)) *prim = D::perturb(rng, D::perturb(rng, *prim));
+        p.error = check(p);
+        return p;
+      });
 }
 
 /// Each iteration polishes a fresh copy of the perturbed tree, the evaluator's set-up (one
