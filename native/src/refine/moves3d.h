@@ -21,9 +21,7 @@ struct Moves3D {
   // The parameters worth moving for a kind.
   static int params_of(PrimitiveKind3D kind, const LocalOptOptions& o, Param out[kMaxParams]) {
     int n = 0;
-    out[n++] = Param::X;
-    out[n++] = Param::Y;
-    out[n++] = Param::Z;
+    for (Param position : {Param::X, Param::Y, Param::Z}) out[n++] = position;
     if (o.move_sizes) {
       int dims[3];
       const int nd = free_dims(kind, dims);
@@ -61,13 +59,9 @@ struct Moves3D {
     const double voxel = unit;
     switch (param) {
       case Param::X:
-        p.cx += step;
-        break;
       case Param::Y:
-        p.cy += step;
-        break;
       case Param::Z:
-        p.cz += step;
+        (param == Param::X ? p.cx : param == Param::Y ? p.cy : p.cz) += step;
         break;
       case Param::Dim0:
       case Param::Dim1:
