@@ -23,6 +23,23 @@ VoxelGrid raster(const Primitive3D& p, int n = 48) {
   return g;
 }
 
+// The three dimensions of `p`, in whatever order the matcher gave them, are the sorted `want`.
+void expect_dims_near(const Primitive3D& p, std::vector<double> want, double tolerance) {
+  std::vector<double> got(p.dims.begin(), p.dims.end());
+  std::sort(got.begin(), got.end());
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], tolerance) << "dimension " << i;
+}
+
+// The matcher's primitive for the raster of `p`, which must be of `kind` (a default primitive
+// when nothing matched, after the failure).
+Primitive3D match_of(const Primitive3D& p, PrimitiveKind3D kind) {
+  const auto m = match_region3d(raster(p), PrimitiveSet3D::matchable());
+  EXPECT_TRUE(m.has_value()) << to_string(kind);
+  if (!m) return {};
+  EXPECT_EQ(m->primitive.kind, kind) << to_string(m->primitive.kind);
+  return m->primitive;
+}
+
 std::vector<double> sorted(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v;
@@ -101,52 +118,37 @@ TEST(Matcher3D, RecognisesARotatedBox) {
   auto m = match_region3d(raster(p), PrimitiveSet3D::matchable());
   ASSERT_TRUE(m);
   EXPECT_EQ(m->primitive.kind, PrimitiveKind3D::Box);
-  const auto got = sorted({m->primitive.dims[0], m->primitive.dims[1], m->primitive.dims[2]});
-  EXPECT_NEAR(got[0], 8, 1.0);
-  EXPECT_NEAR(got[1], 14, 1.0);
-  EXPECT_NEAR(got[2], 24, 1.0);
+  expect_dims_near(m->primitive, {8, 14, 24}, 1.0);
   EXPECT_NEAR(m->block_volume_ratio, 1, 0.05);
 }
 
 TEST(Matcher3D, RecognisesASphere) {
-  auto m = match_region3d(raster(Primitive3D::sphere(24.3, 23.7, 24.1, 11)), PrimitiveSet3D::matchable());
-  ASSERT_TRUE(m);
-  EXPECT_EQ(m->primitive.kind, PrimitiveKind3D::Sphere);
-  EXPECT_NEAR(m->primitive.dims[0], 11, 0.5);
+  const Primitive3D got = match_of(Primitive3D::sphere(24.3, 23.7, 24.1, 11), PrimitiveKind3D::Sphere);
+  EXPECT_NEAR(got.dims[0], 11, 0.5);
 }
 
 TEST(Matcher3D, RecognisesAnEllipsoid) {
   const Primitive3D p = Primitive3D::ellipsoid(24.3, 23.7, 24.1, 16, 10, 6, Quaternion::from_euler_deg(0, 40, 25));
-  auto m = match_region3d(raster(p), PrimitiveSet3D::matchable());
-  ASSERT_TRUE(m);
-  EXPECT_EQ(m->primitive.kind, PrimitiveKind3D::Ellipsoid);
-  const auto got = sorted({m->primitive.dims[0], m->primitive.dims[1], m->primitive.dims[2]});
-  EXPECT_NEAR(got[0], 6, 1.0);
-  EXPECT_NEAR(got[1], 10, 1.0);
-  EXPECT_NEAR(got[2], 16, 1.0);
+  expect_dims_near(match_of(p, PrimitiveKind3D::Ellipsoid), {6, 10, 16}, 1.0);
 }
 
 TEST(Matcher3D, RecognisesACylinderAlongItsDistinctAxis) {
   for (double h : {30.0, 8.0}) {  // long and flat: the distinct moment is the largest or smallest
     const Primitive3D p = Primitive3D::cylinder(24.3, 23.7, 24.1, 9, h, Quaternion::from_euler_deg(35, -20, 0));
-    auto m = match_region3d(raster(p), PrimitiveSet3D::matchable());
-    ASSERT_TRUE(m);
-    EXPECT_EQ(m->primitive.kind, PrimitiveKind3D::Cylinder) << h;
-    EXPECT_NEAR(m->primitive.dims[0], 9, 1.0);
-    EXPECT_NEAR(m->primitive.dims[2], h, 1.0);
+    const Primitive3D got = match_of(p, PrimitiveKind3D::Cylinder);
+    EXPECT_NEAR(got.dims[0], 9, 1.0) << h;
+    EXPECT_NEAR(got.dims[2], h, 1.0);
   }
 }
 
 TEST(Matcher3D, RecognisesAConeAndAFrustum) {
   for (double r2 : {0.0, 5.0}) {
     const Primitive3D p = Primitive3D::cone(24.3, 23.7, 24.1, 12, r2, 26, Quaternion::from_euler_deg(15, 25, 5));
-    auto m = match_region3d(raster(p), PrimitiveSet3D::matchable());
-    ASSERT_TRUE(m);
-    EXPECT_EQ(m->primitive.kind, PrimitiveKind3D::Cone) << r2;
-    const auto got = sorted({m->primitive.dims[0], m->primitive.dims[1]});
-    EXPECT_NEAR(got[0], r2, 1.0);
-    EXPECT_NEAR(got[1], 12, 1.0);
-    EXPECT_NEAR(m->primitive.dims[2], 26, 1.0);
+    const Primitive3D got = match_of(p, PrimitiveKind3D::Cone);
+    const auto radii = sorted({got.dims[0], got.dims[1]});
+    EXPECT_NEAR(radii[0], r2, 1.0);
+    EXPECT_NEAR(radii[1], 12, 1.0);
+    EXPECT_NEAR(got.dims[2], 26, 1.0);
   }
 }
 

@@ -29,6 +29,34 @@ Mismatch mismatch_of(const Grid& raster, const Grid& target) {
   return {count_and_not(raster, target), count_and_not(target, raster)};
 }
 
+/// A random 3D primitive of `kind` (in PrimitiveKind3D order) centred in the box [lo, hi], its
+/// sizes in [dim_lo, dim_hi], under a uniformly random rotation; a third of the cones are pointed.
+inline Primitive3D random_primitive3d(std::mt19937_64& rng, int kind, const Vec3& lo, const Vec3& hi,
+                                      double dim_lo, double dim_hi) {
+  std::uniform_real_distribution<double> dim(dim_lo, dim_hi), apex(-1, 1), unit(0, 1);
+  std::normal_distribution<double> g(0, 1);
+  Quaternion q{g(rng), g(rng), g(rng), g(rng)};
+  q.normalize();
+  double c[3];
+  for (int i = 0; i < 3; ++i) c[i] = std::uniform_real_distribution<double>(lo[i], hi[i])(rng);
+  const double x = c[0], y = c[1], z = c[2];
+  switch (kind) {
+    case 0: return Primitive3D::box(x, y, z, dim(rng), dim(rng), dim(rng), q);
+    case 1: return Primitive3D::sphere(x, y, z, dim(rng) / 2);
+    case 2: return Primitive3D::cylinder(x, y, z, dim(rng) / 2, dim(rng), q);
+    case 3: {
+      const double r2 = unit(rng) < 0.3 ? 0 : dim(rng) / 3;
+      return Primitive3D::cone(x, y, z, dim(rng) / 2, r2, dim(rng), q);
+    }
+    case 4: return Primitive3D::ellipsoid(x, y, z, dim(rng) / 2, dim(rng) / 2, dim(rng) / 3, q);
+    case 5: {
+      const double major = dim(rng) / 2;
+      return Primitive3D::torus(x, y, z, major, major * (0.25 + 0.6 * unit(rng)), q);
+    }
+    default: return Primitive3D::prism(x, y, z, dim(rng), dim(rng), dim(rng), apex(rng), q);
+  }
+}
+
 /// 2D: a 64 x 64 canvas of unit pixels.
 struct Flat {
   using Tree = Node;
@@ -103,30 +131,8 @@ struct Solid {
 
   static VoxelGrid frame() { return VoxelGrid(kNx, kNy, kNz, -1.0, 0.5, 2.0, 0.5); }
   static Primitive3D random_primitive(std::mt19937_64& rng) {
-    std::uniform_real_distribution<double> px(2, 17), py(3, 16), pz(4, 16), dim(2, 12), apex(-1, 1),
-        unit(0, 1);
-    std::normal_distribution<double> g(0, 1);
-    Quaternion q{g(rng), g(rng), g(rng), g(rng)};
-    q.normalize();
-    const double x = px(rng), y = py(rng), z = pz(rng);
-    switch (rng() % 7) {
-      case 0:
-        return Primitive3D::box(x, y, z, dim(rng), dim(rng), dim(rng), q);
-      case 1:
-        return Primitive3D::sphere(x, y, z, dim(rng) / 2);
-      case 2:
-        return Primitive3D::cylinder(x, y, z, dim(rng) / 2, dim(rng), q);
-      case 3:
-        return Primitive3D::cone(x, y, z, dim(rng) / 2, dim(rng) / 4, dim(rng), q);
-      case 4:
-        return Primitive3D::ellipsoid(x, y, z, dim(rng) / 2, dim(rng) / 2, dim(rng) / 2, q);
-      case 5: {
-        const double R = dim(rng) / 2;
-        return Primitive3D::torus(x, y, z, R, R * (0.2 + 0.7 * unit(rng)), q);
-      }
-      default:
-        return Primitive3D::prism(x, y, z, dim(rng), dim(rng), dim(rng), apex(rng), q);
-    }
+    const int kind = static_cast<int>(rng() % 7);
+    return random_primitive3d(rng, kind, {2, 3, 4}, {17, 16, 16}, 2, 12);
   }
   static Node3D random_tree(std::mt19937_64& rng, int depth) {
     return reference::random_tree<Node3D>(rng, depth, random_primitive);

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "csgfit/error.h"
+#include "evaluator_reference.h"
 #include "text_checks.h"
 
 namespace csgfit {
@@ -171,30 +172,7 @@ void write_npy(const VoxelGrid& g, const std::string& path) {
 }
 
 Primitive3D random_primitive(std::mt19937_64& rng, int kind) {
-  std::uniform_real_distribution<double> pos(9, 23), dim(4, 13), apex(-1, 1), unit(0, 1);
-  std::normal_distribution<double> g(0, 1);
-  Quaternion q{g(rng), g(rng), g(rng), g(rng)};
-  q.normalize();
-  const double x = pos(rng), y = pos(rng), z = pos(rng);
-  switch (kind) {
-    case 0:
-      return Primitive3D::box(x, y, z, dim(rng), dim(rng), dim(rng), q);
-    case 1:
-      return Primitive3D::sphere(x, y, z, dim(rng) / 2);
-    case 2:
-      return Primitive3D::cylinder(x, y, z, dim(rng) / 2, dim(rng), q);
-    case 3:
-      return Primitive3D::cone(x, y, z, dim(rng) / 2, unit(rng) < 0.3 ? 0 : dim(rng) / 3, dim(rng),
-                               q);
-    case 4:
-      return Primitive3D::ellipsoid(x, y, z, dim(rng) / 2, dim(rng) / 2, dim(rng) / 3, q);
-    case 5: {
-      const double R = dim(rng) / 2;
-      return Primitive3D::torus(x, y, z, R, R * (0.25 + 0.6 * unit(rng)), q);
-    }
-    default:
-      return Primitive3D::prism(x, y, z, dim(rng), dim(rng), dim(rng), apex(rng), q);
-  }
+  return reference::random_primitive3d(rng, kind, {9, 9, 9}, {23, 23, 23}, 4, 13);
 }
 
 TEST(ScadWriter3DRoundTrip, DumpFilesForOpenScad) {
