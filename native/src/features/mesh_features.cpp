@@ -4,16 +4,16 @@
 #include <cmath>
 #include <vector>
 
+#include "model/linalg.h"
 #include "model/random.h"
 
 namespace csgfit {
 
 namespace {
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
+using linalg::cross;
+using linalg::dot;
+
 bool normalized(Vec3& v) {
   const double n = std::sqrt(dot(v, v));
   if (!(n > 1e-300)) return false;
@@ -214,9 +214,7 @@ Quaternion dominant_frame(const TriangleMesh& mesh) {
         const double s = (signs >> col) & 1 ? -1.0 : 1.0;
         for (int row = 0; row < 3; ++row) m[row][col] = s * dirs[p[col]][row];
       }
-      const Vec3 c0{m[0][0], m[1][0], m[2][0]}, c1{m[0][1], m[1][1], m[2][1]},
-          c2{m[0][2], m[1][2], m[2][2]};
-      if (dot(cross(c0, c1), c2) < 0) continue;  // a reflection
+      if (linalg::view(m).determinant() < 0) continue;  // a reflection
       const double trace = m[0][0] + m[1][1] + m[2][2];
       if (trace > best_trace) {
         best_trace = trace;
@@ -231,7 +229,7 @@ Quaternion dominant_frame(const TriangleMesh& mesh) {
     Vec3 e{0, 0, 0};
     e[a] = 1;
     own += aligned_area(facets, e, cos_tol);
-    framed += aligned_area(facets, Vec3{best[0][a], best[1][a], best[2][a]}, cos_tol);
+    framed += aligned_area(facets, linalg::column(best, a), cos_tol);
   }
   if (own >= 0.9 * framed || best_trace > 3 - 1e-6) return Quaternion{};
   Quaternion q = quaternion_from_matrix(best);

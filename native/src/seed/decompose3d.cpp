@@ -9,6 +9,7 @@
 #include "csgfit/model/quaternion.h"
 #include "csgfit/refine/local_opt.h"
 #include "seed/triangle_frame.h"
+#include "model/linalg.h"
 
 namespace csgfit {
 
@@ -16,7 +17,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Vec3 column(const Mat3& m, int c) { return {m[0][c], m[1][c], m[2][c]}; }
+using linalg::column;
 
 // A right-handed frame whose local x, y, z are the given unit vectors.
 Quaternion frame(const Vec3& x, const Vec3& y, const Vec3& z) {

@@ -1,0 +1,31 @@
+// Internal to the solver: the small linear algebra of 3D on Eigen, over the API's own value
+// types. Vec3 and Mat3 (row-major) stay std::arrays, so that the public headers, the JSON and
+// the Python bindings need no Eigen; Eigen maps them in place.
+//
+// Eigen sums a 3-term dot product as a0 + (a1 + a2) and solves systems in its own order, so
+// code whose rounding steers a search (the moment axes, the surface fit's normal equations,
+// the mesh's rotation into the fitting frame) keeps its own loops until a change that may move
+// the fixed-seed results (scripts/golden.py) takes them over.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "csgfit/model/quaternion.h"
+
+namespace csgfit::linalg {
+
+static_assert(sizeof(Mat3) == 9 * sizeof(double), "Mat3 must be nine contiguous doubles");
+
+using ConstVector = Eigen::Map<const Eigen::Vector3d>;
+using RowMajor3d = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+using ConstMatrix = Eigen::Map<const RowMajor3d>;
+
+inline ConstVector view(const Vec3& v) { return ConstVector(v.data()); }
+inline ConstMatrix view(const Mat3& m) { return ConstMatrix(m[0].data()); }
+inline Vec3 to_vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+inline double dot(const Vec3& a, const Vec3& b) { return view(a).dot(view(b)); }
+inline Vec3 cross(const Vec3& a, const Vec3& b) { return to_vec3(view(a).cross(view(b))); }
+inline Vec3 column(const Mat3& m, int c) { return to_vec3(view(m).col(c)); }
+
+}  // namespace csgfit::linalg
