@@ -4,10 +4,8 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <map>
 #include <random>
 #include <string>
-#include <utility>
 
 #include "bench_cases.h"
 #include "csgfit/refine/local_opt.h"

@@ -14,7 +14,6 @@ using namespace csgfit;
 
 namespace {
 
-using reference::mismatch_of;
 using reference::Solid;
 constexpr int kNx = Solid::kNx, kNy = Solid::kNy, kNz = Solid::kNz;
 const VoxelGrid kFrame = Solid::frame();

@@ -60,9 +60,7 @@ inline Primitive3D random_primitive3d(std::mt19937_64& rng, int kind, const Vec3
 /// 2D: a 64 x 64 canvas of unit pixels.
 struct Flat {
   using Tree = Node;
-  using Grid = Bitmap;
   using Evaluator = TreeEvaluator;
-  using Leaf = Primitive;
   static constexpr int kRenderTrials = 200, kUpdateTrees = 60, kUpdateSteps = 20,
                        kRemovalTrials = 100, kSimplifyTrials = 200;
   static constexpr std::size_t kMinCovered = 30000;  // of 819200: the trees are not all empty
@@ -121,9 +119,7 @@ struct Flat {
 /// is part of what is tested.
 struct Solid {
   using Tree = Node3D;
-  using Grid = VoxelGrid;
   using Evaluator = TreeEvaluator3D;
-  using Leaf = Primitive3D;
   static constexpr int kRenderTrials = 120, kUpdateTrees = 30, kUpdateSteps = 12,
                        kRemovalTrials = 60, kSimplifyTrials = 100;
   static constexpr std::size_t kMinCovered = 10000;
