@@ -31,7 +31,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using Candidate = Candidate2D;
-using islands::at_fraction;
 using Island = islands::Island<Operators2D>;
 
 Problem2D make_problem(const Bitmap& target, const FitOptions& options, Clock::time_point start) {

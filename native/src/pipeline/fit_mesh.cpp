@@ -15,6 +15,7 @@
 #include "csgfit/optimise/snap3d.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/refine/surface_fit3d.h"
+#include "pipeline/fit_request.h"
 
 namespace csgfit {
 
@@ -229,8 +230,7 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
   const bool stopped = out.fit.stats.stop_reason == "cancelled";
   if (!stopped && elapsed() < 0.98 * options.time_limit) {
     // The last step (snapping) and the caller's writing need a moment after the deadline.
-    const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double>(0.98 * options.time_limit));
+    const auto deadline = at_fraction(start, options.time_limit, 0.98);
     polish(out, local.mesh, coarse, vopt, polish_fine ? h.fine : 0, options.seed, deadline);
   }
   rotate_tree(out.fit.tree, out.frame);

@@ -1,6 +1,8 @@
-// Internal to pipeline/: the checks every fit makes of what it is asked before it starts.
+// Internal to pipeline/: what every fit shares before and while it runs: the checks of what it
+// is asked, and the points of its time budget.
 #pragma once
 
+#include <chrono>
 #include <stdexcept>
 
 namespace csgfit {
@@ -12,6 +14,13 @@ void check_fit_request(const Grid& target, const PrimitiveSet& primitives, doubl
   if (target.empty() || target.count() == 0) throw std::invalid_argument("no shape found");
   if (primitives.empty()) throw std::invalid_argument("no primitive type allowed");
   if (!(time_limit > 0)) throw std::invalid_argument("the time budget must be positive");
+}
+
+/// The point of a budget of `time_limit` seconds from `start` at fraction f of it.
+inline std::chrono::steady_clock::time_point at_fraction(
+    std::chrono::steady_clock::time_point start, double time_limit, double f) {
+  return start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                     std::chrono::duration<double>(f * time_limit));
 }
 
 }  // namespace csgfit

@@ -26,7 +26,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using Candidate = Candidate3D;
-using islands::at_fraction;
 using Island = islands::Island<Operators3D>;
 
 Problem3D make_problem(const VoxelGrid& target, const FitOptions3D& options,

@@ -22,12 +22,6 @@ namespace csgfit::islands {
 
 using Clock = std::chrono::steady_clock;
 
-/// The point of a budget of `time_limit` seconds from `start` at fraction f of it.
-inline Clock::time_point at_fraction(Clock::time_point start, double time_limit, double f) {
-  return start + std::chrono::duration_cast<Clock::duration>(
-                     std::chrono::duration<double>(f * time_limit));
-}
-
 /// One island: its own random numbers (inside `ops`) and population.
 template <typename Ops>
 struct Island {
