@@ -1,0 +1,56 @@
+// Surface patches of a point set with normals: planes, spheres, cylinders, cones and tori found
+// by CGAL's efficient RANSAC (Schnabel et al.), each with its fitted parameters and its points.
+// One detector for every input that has a surface: range images, point clouds, mesh samples.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "csgfit/model/quaternion.h"
+
+namespace csgfit {
+
+enum class SurfaceKind { Plane, Sphere, Cylinder, Cone, Torus };
+
+std::string_view to_string(SurfaceKind kind);
+
+/// One detected surface and the points it explains.
+struct SurfacePatch {
+  SurfaceKind kind = SurfaceKind::Plane;
+  /// Plane: a unit normal and a point on it (the centroid of its points).
+  /// Sphere: the centre. Cylinder / torus: a point on the axis and the unit axis. Cone: the
+  /// apex and the unit axis pointing into the cone.
+  Vec3 point{0, 0, 0};
+  Vec3 axis{0, 0, 1};
+  double radius = 0;        ///< sphere, cylinder: radius; torus: major radius
+  double minor_radius = 0;  ///< torus
+  double angle = 0;         ///< cone: half-angle in radians
+  std::vector<int> points;  ///< indices into the detector's input
+  /// Whether the surface bulges towards the points' normals (the solid behind it is convex
+  /// there: seed 002's positive primitive) rather than hollows (concave: a negative one).
+  /// Always true for planes.
+  bool convex = true;
+  double rms = 0;           ///< root-mean-square distance of its points to the surface
+};
+
+/// Detector settings; zero means relative to the points' bounding-box diagonal.
+struct SurfaceDetectOptions {
+  double epsilon = 0;         ///< max point-surface distance (default 0.4 % of the diagonal)
+  double cluster_epsilon = 0; ///< max gap inside one patch (default 1.5 % of the diagonal)
+  double normal_threshold = 0.9;  ///< min |cos| between a point's normal and the surface's
+  int min_points = 0;         ///< smallest patch (default max(30, 0.2 % of the points))
+  double probability = 0.01;  ///< RANSAC's chance of missing the largest shape
+  bool planes = true, spheres = true, cylinders = true, cones = true, tori = true;
+};
+
+/// Detects the patches of `points` (with one unit normal each, pointing out of the part).
+/// Deterministic for a given `seed`. Each point belongs to at most one patch; patches are in
+/// the order found (largest first, as RANSAC extracts them), parameters refined by least
+/// squares on the patch's points.
+std::vector<SurfacePatch> detect_surfaces(const std::vector<Vec3>& points,
+                                          const std::vector<Vec3>& normals,
+                                          const SurfaceDetectOptions& options,
+                                          std::uint64_t seed = 1);
+
+}  // namespace csgfit

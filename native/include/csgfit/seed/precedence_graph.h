@@ -1,0 +1,55 @@
+// Seed 002's precedence graph: which primitive was added or subtracted before which, from the
+// adjacency of their surface patches and inside tests, and the CSG tree it orders.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "csgfit/model/primitive3d.h"
+#include "csgfit/model/tree3d.h"
+
+namespace csgfit {
+
+/// A primitive read off the surface patches, with its seed-002 sign.
+struct SignedPrimitive {
+  Primitive3D primitive;
+  bool positive = true;        ///< convex patches give positive primitives, concave negative
+  std::vector<int> patches;    ///< the patches it explains
+};
+
+enum class ArcKind {
+  Subtracting,  ///< the negative primitive is subtracted from the positive one (from -> to)
+  Appending     ///< the positive primitive is appended after the negative one (from -> to)
+};
+
+struct PrecedenceArc {
+  int from = 0, to = 0;        ///< node indices: `from` comes before `to`
+  ArcKind kind = ArcKind::Subtracting;
+};
+
+/// Nodes are the primitives; arcs say which comes first; each connected digraph is a
+/// subobject; order is the topological rank inside it, 1-based (odd = positive).
+struct PrecedenceGraph {
+  std::vector<SignedPrimitive> nodes;
+  std::vector<PrecedenceArc> arcs;
+  std::vector<int> subobject;  ///< per node, 0-based
+  std::vector<int> order;      ///< per node, 1-based
+  int subobjects = 0;
+};
+
+/// Builds the graph from primitives and the adjacency of their patches (adjacent[i] lists the
+/// nodes whose patches touch node i's): an arc between each adjacent positive / negative pair,
+/// subtracting when the negative's patch points lie inside the positive primitive, appending
+/// otherwise; then subobjects and orders. `patch_points[i]` are node i's surface points.
+PrecedenceGraph build_precedence_graph(std::vector<SignedPrimitive> nodes,
+                                       const std::vector<std::vector<int>>& adjacent,
+                                       const std::vector<std::vector<Vec3>>& patch_points);
+
+/// The tree of the graph: per subobject, its primitives applied in order (odd orders added,
+/// even subtracted), and the union of the subobjects.
+Node3D precedence_tree(const PrecedenceGraph& graph);
+
+/// Seed 002's Fig. 10 listing: subobjects, orders, each primitive with its axes, sizes, sign.
+std::string precedence_report(const PrecedenceGraph& graph);
+
+}  // namespace csgfit
