@@ -27,5 +27,17 @@ inline Vec3 to_vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 inline double dot(const Vec3& a, const Vec3& b) { return view(a).dot(view(b)); }
 inline Vec3 cross(const Vec3& a, const Vec3& b) { return to_vec3(view(a).cross(view(b))); }
 inline Vec3 column(const Mat3& m, int c) { return to_vec3(view(m).col(c)); }
+inline Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+inline Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+inline double squared(const Vec3& a) { return dot(a, a); }
+inline double norm(const Vec3& a) { return view(a).norm(); }
+/// a / |a|, or {0, 0, 0} for a zero vector.
+inline Vec3 normalized(const Vec3& a) {
+  const double n = norm(a);
+  return n > 0 ? scale(a, 1 / n) : Vec3{0, 0, 0};
+}
+/// The part of a perpendicular to the unit vector d.
+inline Vec3 reject(const Vec3& a, const Vec3& d) { return sub(a, scale(d, dot(a, d))); }
 
 }  // namespace csgfit::linalg

@@ -15,6 +15,9 @@ struct SignedPrimitive {
   Primitive3D primitive;
   bool positive = true;        ///< convex patches give positive primitives, concave negative
   std::vector<int> patches;    ///< the patches it explains
+  /// Sides no surface bounds (bit 2 * axis for the local -axis side, 2 * axis + 1 for +axis):
+  /// a negative primitive's open ends, reaching through the positive it is subtracted from.
+  unsigned open_sides = 0;
 };
 
 enum class ArcKind {
