@@ -13,7 +13,7 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 # Debian packages: build tools and libraries, then what the integration tests drive.
 packages=(
   build-essential cmake pkg-config
-  libstb-dev nlohmann-json3-dev libcli11-dev libeigen3-dev
+  libstb-dev nlohmann-json3-dev libcli11-dev libeigen3-dev libcgal-dev
   libgtest-dev libbenchmark-dev
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
   libtbb-dev  # OCCT's CMake targets link libtbb.so, which libocct-*-dev does not pull in
