@@ -88,7 +88,11 @@ PlyHeader read_ply_header(const std::string& path, const std::string& d) {
   while (!c.at_end()) {
     std::string_view line = take_line(c);
     const std::string_view key = take_token(&line);
-    if (key.empty() || key == "comment" || key == "obj_info") continue;
+    if (key.empty()) continue;
+    if (key == "comment" || key == "obj_info") {
+      h.comments.emplace_back(line);
+      continue;
+    }
     if (key == "format") {
       const std::string_view f = take_token(&line);
       if (f == "ascii") {

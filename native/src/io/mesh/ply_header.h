@@ -32,6 +32,9 @@ struct PlyHeader {
   PlyFormat format = PlyFormat::kAscii;
   std::vector<PlyElement> elements;
   std::size_t body = 0;  // offset of the data after the end_header line
+  /// The text after each "comment" and "obj_info" keyword (where an organised cloud keeps
+  /// its width and height), in order.
+  std::vector<std::string> comments;
 };
 
 /// Checks the "ply" signature and reads the header up to end_header.
