@@ -18,6 +18,7 @@
 #include "csgfit/model/mesh.h"
 #include "csgfit/io/mesh_read.h"
 #include "csgfit/io/voxels_read.h"
+#include "scratch_dir.h"
 
 namespace csgfit {
 namespace {
@@ -43,11 +44,6 @@ TriangleMesh tetrahedron() {
   m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   return m;
-}
-
-void write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream f(path, std::ios::binary);
-  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
 std::string stl_ascii(const TriangleMesh& m) {
@@ -233,20 +229,8 @@ std::string png_bytes() {
   return s;
 }
 
-class MeshIoTest : public ::testing::Test {
+class MeshIoTest : public testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    std::string tmpl = (fs::temp_directory_path() / "csgfit_mesh_io_XXXXXX").string();
-    ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
-    dir_ = tmpl;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string file(const std::string& name, const std::string& bytes) {
-    const std::string path = dir_ + "/" + name;
-    write_file(path, bytes);
-    return path;
-  }
 
   // The InputError message of f, checked to be one line naming the file.
   std::string error_of(const std::function<void()>& f, const std::string& path = "") {
@@ -275,8 +259,6 @@ class MeshIoTest : public ::testing::Test {
     const std::string m = error_of([&] { read_voxels(path); }, path);
     EXPECT_NE(m.find(word), std::string::npos) << "expected '" << word << "' in: " << m;
   }
-
-  std::string dir_;
 };
 
 void expect_solid(const TriangleMesh& m, std::size_t vertices, std::size_t triangles, double volume) {
