@@ -42,7 +42,6 @@ TWO_VIEW = "two_view"
 TWO_VIEW_SENSORS = ("ortho", "pinhole")  # view A and view B, the noiseless A
 TARGETS = {"silhouette_iou": 0.98, "depth_err_pct": 0.5, "volume_iou_one": 0.95,
            "volume_iou_two": 0.98, "prim_ratio": 1.5, "median_wall": 20.0}
-IMAGE_DIR = os.path.join(benchlib.REPO_DIR, "docs", "images", "range")
 
 # ----------------------------------------------------------------------------------------------
 # Runs: one per (model, sensor) and one per model with both views
@@ -154,7 +153,7 @@ def openscad_csg(scad, csg, timeout):
 
 def score_one(row, entry, args):
     """Renders the run's .scad, counts its primitives and scores it view by view and by volume."""
-    errors = row.pop("_errors")
+    errors = ([row["error"]] if row.get("error") else []) + row.pop("_errors", [])
     if row["status"] == "ok":
         try:
             score_result(row, entry, args)
@@ -382,11 +381,12 @@ def report(rows, agg, b_checks, pictures, args):
 
 def save_pictures(rows, entries, args, count=4):
     """Strips for object_b and the worst-scoring other runs (by silhouette then depth), written
-    under docs/images/range/ (stale strips removed): [(name, path relative to docs/)]."""
-    os.makedirs(IMAGE_DIR, exist_ok=True)
-    for f in os.listdir(IMAGE_DIR):
+    under images/range/ next to the doc (stale strips removed): [(name, relative path)]."""
+    image_dir = os.path.join(os.path.dirname(os.path.abspath(args.write_doc)), "images", "range")
+    os.makedirs(image_dir, exist_ok=True)
+    for f in os.listdir(image_dir):
         if f.endswith(".png"):
-            os.remove(os.path.join(IMAGE_DIR, f))
+            os.remove(os.path.join(image_dir, f))
     ok = [r for r in one_view(rows) if r.get("scad_rendered") == "yes" and "_views" in r]
     worst = sorted(ok, key=lambda r: (r["silhouette_iou"], -r.get("depth_err_pct", 0)))
     chosen = [r for r in ok if r["name"] == "object_b_ortho"]
@@ -398,9 +398,9 @@ def save_pictures(rows, entries, args, count=4):
         cam = rj.load_camera(image)
         result = rj.render_depth(rj.read_stl(os.path.join(args.out, r["name"] + ".stl")), cam)
         diagonal = rj.bbox_diagonal(rj.read_stl(gt_stl(by_name[r["model"]], args)))
-        path = os.path.join(IMAGE_DIR, r["name"] + ".png")
+        path = os.path.join(image_dir, r["name"] + ".png")
         rj.save_strip(path, rj.read_depth(image, cam), result, diagonal)
-        out.append((r["name"], os.path.relpath(path, os.path.dirname(args.write_doc))))
+        out.append((r["name"], os.path.relpath(path, os.path.dirname(os.path.abspath(args.write_doc)))))
     return out
 
 
@@ -424,6 +424,8 @@ def parse_args(argv):
     ap.add_argument("--grid", type=int, default=128,
                     help="volume IoU grid: cubic voxels, at least GRID^3 (default 128)")
     ap.add_argument("--openscad-timeout", type=float, default=600.0)
+    ap.add_argument("--cache", help="where the ground truths' renders are kept (default "
+                                    "OUT/cache)")
     benchlib.add_output_args(ap, "range")
     benchlib.add_doc_arg(ap, "range")
     return ap.parse_args(argv)
@@ -460,7 +462,9 @@ def main(argv=None):
     if benchlib.missing_tool(PROG, "openscad") or (
             not args.gt_as_result and benchlib.missing_cli(PROG, args.cli, "--cli")):
         return 2
-    CACHE["dir"] = os.path.join(args.out, "cache")
+    args.out = os.path.abspath(args.out)  # OpenSCAD's -o must not depend on its cwd
+    os.makedirs(args.out, exist_ok=True)
+    CACHE["dir"] = os.path.abspath(args.cache or os.path.join(args.out, "cache"))
     os.makedirs(CACHE["dir"], exist_ok=True)
     entry_of = {e["name"]: e for e in entries}
     t_start = time.monotonic()

@@ -139,7 +139,8 @@ def render_depth(tris, cam):
     pinhole = cam["projection"] == "pinhole"
     keep = np.all(z > 1e-9, axis=1) if pinhole else np.ones(len(tris), bool)
     sx, sy, z = sx[keep], sy[keep], z[keep]
-    area = (sx[:, 1] - sx[:, 0]) * (sy[:, 2] - sy[:, 0]) - (sx[:, 2] - sx[:, 0]) * (sy[:, 1] - sy[:, 0])
+    area = ((sx[:, 1] - sx[:, 0]) * (sy[:, 2] - sy[:, 0])
+            - (sx[:, 2] - sx[:, 0]) * (sy[:, 1] - sy[:, 0]))
     edge_on = np.abs(area) < 1e-12  # seen edge-on: covers no pixel centre
     sx, sy, z = sx[~edge_on], sy[~edge_on], z[~edge_on]
     val = 1.0 / z if pinhole else z
