@@ -269,7 +269,8 @@ def _number(value):
 
 def cylinder_size(node):
     """(radius, altitude) of a cylinder node, each None when the node does not say: named keys
-    first (radius / r, height / h / altitude / length), else dims as [radius, altitude]."""
+    first (radius / r, height / h / altitude / length), else dims as Primitive3D keeps them,
+    [r, r, height], or as [radius, altitude]."""
     dims = node.get("dims")
     named = dict(node, **dims) if isinstance(dims, dict) else node
     r = next((_number(named[k]) for k in ("radius", "r") if k in named), None)
@@ -277,7 +278,7 @@ def cylinder_size(node):
              None)
     if isinstance(dims, (list, tuple)) and dims:
         r = r if r is not None else _number(dims[0])
-        h = h if h is not None or len(dims) < 2 else _number(dims[1])
+        h = h if h is not None or len(dims) < 2 else _number(dims[2 if len(dims) > 2 else 1])
     return r, h
 
 

@@ -94,13 +94,13 @@ def ideal_object_b():
     nodes = [{"primitive": 0, "kind": "box", "sign": "positive", "order": 1, "subobject": 0,
               "dims": [3.0, 3.0, 1.5]},
              {"primitive": 1, "kind": "cylinder", "sign": "negative", "order": 2,
-              "subobject": 0, "dims": [2.5, 2.5]},
+              "subobject": 0, "dims": [2.5, 2.5, 2.5]},
              {"primitive": 2, "kind": "cylinder", "sign": "positive", "order": 3,
-              "subobject": 0, "dims": [0.5, 1.75]},
+              "subobject": 0, "dims": [0.5, 0.5, 1.75]},
              {"primitive": 3, "kind": "cylinder", "sign": "positive", "order": 3,
               "subobject": 0, "dims": [0.49, 1.74]},
              {"primitive": 4, "kind": "cylinder", "sign": "positive", "order": 1,
-              "subobject": 1, "dims": [0.75, 0.75]}]
+              "subobject": 1, "dims": [0.75, 0.75, 0.75]}]
     arcs = [{"from": 0, "to": 1, "kind": "subtracting"}, {"from": 1, "to": 2, "kind": "appending"}]
     return {"tree": {}, "precedence_graph": {"nodes": nodes, "arcs": arcs}}
 
@@ -110,11 +110,20 @@ def test_object_b_graph_of_the_paper_passes():
     assert all(ok for item, ok, _ in checks if not item.startswith("arcs")), checks
 
 
+def test_cylinder_sizes_read_from_every_spelling():
+    assert rj.cylinder_size({"dims": [0.5, 0.5, 1.75]}) == (0.5, 1.75)  # Primitive3D's dims
+    assert rj.cylinder_size({"dims": [0.5, 1.75]}) == (0.5, 1.75)
+    assert rj.cylinder_size({"dims": {"radius": 0.5, "height": 1.75}}) == (0.5, 1.75)
+    assert rj.cylinder_size({"r": 0.5}) == (0.5, None)
+
+
 def test_object_b_graph_wrong_or_incomplete_is_said():
     doc = ideal_object_b()
     doc["precedence_graph"]["nodes"][1]["sign"] = "positive"
     del doc["precedence_graph"]["nodes"][4]["subobject"]
+    doc["precedence_graph"]["nodes"][0]["dims"] = [3.0, 3.0, 1.7]  # 13 % off the paper
     checks = {item: ok for item, ok, _ in rj.object_b_checks(doc)}
+    assert checks["block 1.5 x 3.0 x 3.0"] is False
     assert checks["large cylinder order 2, negative"] is False
     assert checks["top cylinder its own subobject"] is None
     assert rj.object_b_checks({"tree": {}}) == [
