@@ -136,6 +136,11 @@ void keep_fitting_points(SurfacePatch& patch, const std::vector<Vec3>& points,
   patch.points = std::move(kept);
 }
 
+// A sphere or cylinder much wider than the part is a plane seen by RANSAC's general form.
+bool flat_enough(const SurfacePatch& s, double diagonal) {
+  return (s.kind == SurfaceKind::Sphere || s.kind == SurfaceKind::Cylinder) && s.radius > 3 * diagonal;
+}
+
 // A curved surface whose curvature is lost in the part's size (a cylinder wider than the part,
 // a cone that has become a cylinder, a torus without a hole) stands for a simpler surface
 // that an earlier pass either found or refused: it is not a primitive of its own.
@@ -196,15 +201,23 @@ std::vector<SurfacePatch> detect_surfaces(const std::vector<Vec3>& points,
     if (!(pass->planes || pass->spheres || pass->cylinders || pass->cones || pass->tori))
       continue;
     const Ransac::Parameters& params = pass == &simple ? parameters : general_parameters;
-    for (SurfacePatch& patch : detect_pass(points, normals, taken, *pass, params)) {
-      polish_patch(patch, points, normals);
-      keep_fitting_points(patch, points, normals, params);
-      polish_patch(patch, points, normals);
-      if (!plausible(patch, diagonal) || patch.points.size() < params.min_points) continue;
-      patch.convex = is_convex(patch, points, normals);
-      patch.rms = patch_rms(patch, points);
-      for (int i : patch.points) taken[i] = 1;
-      patches.push_back(std::move(patch));
+    // A shape refused below leaves its points in the pool: another round may find what they
+    // really are (a plane that RANSAC first took for a cylinder as wide as a house).
+    for (int round = 0; round < 4; ++round) {
+      std::size_t accepted = 0;
+      for (SurfacePatch& patch : detect_pass(points, normals, taken, *pass, params)) {
+        if (flat_enough(patch, diagonal)) patch.kind = SurfaceKind::Plane;
+        polish_patch(patch, points, normals);
+        keep_fitting_points(patch, points, normals, params);
+        polish_patch(patch, points, normals);
+        if (!plausible(patch, diagonal) || patch.points.size() < params.min_points) continue;
+        patch.convex = is_convex(patch, points, normals);
+        patch.rms = patch_rms(patch, points);
+        for (int i : patch.points) taken[i] = 1;
+        patches.push_back(std::move(patch));
+        ++accepted;
+      }
+      if (accepted == 0) break;
     }
   }
   return patches;

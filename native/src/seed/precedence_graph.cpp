@@ -194,23 +194,53 @@ PrecedenceGraph build_precedence_graph(std::vector<SignedPrimitive> nodes,
   return g;
 }
 
-Node3D precedence_tree(const PrecedenceGraph& g) {
+PrecedenceGraph without_node(const PrecedenceGraph& graph, int node) {
+  std::vector<char> keep(graph.nodes.size(), 1);
+  keep[node] = 0;
+  // A cut whose only subtracting arcs came from the removed node cuts nothing any more.
+  for (std::size_t i = 0; i < graph.nodes.size(); ++i) {
+    if (graph.nodes[i].positive || !keep[i]) continue;
+    bool cuts = false;
+    for (const PrecedenceArc& a : graph.arcs)
+      cuts |= a.to == static_cast<int>(i) && a.kind == ArcKind::Subtracting && keep[a.from];
+    keep[i] = cuts;
+  }
+  std::vector<int> index(graph.nodes.size(), -1);
+  PrecedenceGraph g;
+  for (std::size_t i = 0; i < graph.nodes.size(); ++i)
+    if (keep[i]) index[i] = static_cast<int>(g.nodes.size()), g.nodes.push_back(graph.nodes[i]);
+  for (const PrecedenceArc& a : graph.arcs)
+    if (index[a.from] >= 0 && index[a.to] >= 0) g.arcs.push_back({index[a.from], index[a.to], a.kind});
+  g.order = ranks(g);
+  g.subobject = components(g, g.subobjects);
+  return g;
+}
+
+Node3D precedence_tree(const PrecedenceGraph& g, std::vector<int>* leaf_nodes) {
   std::vector<Node3D> subobjects;
+  std::vector<std::vector<int>> subobject_leaves;
   for (int s = 0; s < g.subobjects; ++s) {
     std::vector<int> members;
     for (std::size_t i = 0; i < g.nodes.size(); ++i)
       if (g.subobject[i] == s) members.push_back(static_cast<int>(i));
     std::sort(members.begin(), members.end(), [&](int a, int b) { return g.order[a] < g.order[b]; });
+    // Each level wraps what came before as its first child, so the leaves in depth-first
+    // order are the levels' members in order.
     Node3D acc;
+    std::vector<int> order_of_leaves;
     bool started = false;
     for (std::size_t at = 0; at < members.size();) {
       const int level = g.order[members[at]];
       std::vector<Node3D> leaves;
-      for (; at < members.size() && g.order[members[at]] == level; ++at)
+      std::vector<int> level_nodes;
+      for (; at < members.size() && g.order[members[at]] == level; ++at) {
         leaves.push_back(Node3D::leaf(g.nodes[members[at]].primitive));
+        level_nodes.push_back(members[at]);
+      }
       const bool positive = level % 2 == 1;
+      if (!started && !positive) continue;  // a cut before anything to cut: nothing to do
+      order_of_leaves.insert(order_of_leaves.end(), level_nodes.begin(), level_nodes.end());
       if (!started) {
-        if (!positive) continue;  // a cut before anything to cut: nothing to do
         acc = op_or_leaf(NodeKind::Union, std::move(leaves));
         started = true;
         continue;
@@ -218,7 +248,13 @@ Node3D precedence_tree(const PrecedenceGraph& g) {
       leaves.insert(leaves.begin(), std::move(acc));
       acc = op_or_leaf(positive ? NodeKind::Union : NodeKind::Difference, std::move(leaves));
     }
-    if (started) subobjects.push_back(std::move(acc));
+    if (!started) continue;
+    subobjects.push_back(std::move(acc));
+    subobject_leaves.push_back(std::move(order_of_leaves));
+  }
+  if (leaf_nodes) {
+    leaf_nodes->clear();
+    for (const auto& l : subobject_leaves) leaf_nodes->insert(leaf_nodes->end(), l.begin(), l.end());
   }
   if (subobjects.empty()) return Node3D{};
   return op_or_leaf(NodeKind::Union, std::move(subobjects));

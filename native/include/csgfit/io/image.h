@@ -45,6 +45,10 @@ Bitmap read_bitmap(const std::string& path, const ImageReadOptions& options = {}
 void write_preview_png(const std::string& path, const Bitmap& target, const Bitmap& result,
                        int scale = 1);
 
+/// Writes 8-bit RGB pixels (row 0 at the top, width * height * 3 bytes) as a PNG, atomically.
+void write_rgb_png(const std::string& path, int width, int height,
+                   const std::vector<std::uint8_t>& rgb);
+
 /// Writes a bitmap as a black-on-white 8-bit grey PNG (shape black), atomically.
 void write_bitmap_png(const std::string& path, const Bitmap& bitmap);
 

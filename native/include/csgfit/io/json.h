@@ -2,10 +2,12 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "csgfit/model/frame.h"
 #include "csgfit/model/tree2d.h"
 #include "csgfit/pipeline/fit_bitmap.h"
+#include "csgfit/pipeline/fit_range.h"
 #include "csgfit/pipeline/fit_voxels.h"
 
 namespace csgfit {
@@ -44,6 +46,14 @@ Node flip_y(const Node& tree, double height);
 /// [w, x, y, z]); the tree itself is always in mesh coordinates.
 std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
                       const Quaternion& frame = {});
+
+/// A range fit as JSON: the 3D document's "schema", "dimension", "units", "source", "tree" and
+/// "stats" (no grid: the input was points), with "sources" (every view), "views" (each view's
+/// silhouette_iou and depth_error as its sensor sees the tree), "precedence_graph" (seed 002:
+/// "subobjects", "nodes" with kind, sign, order, subobject, dims, the primitive and its patch
+/// indices, "arcs" with from, to and kind "subtracting" or "appending") and "patches" (kind,
+/// points, convex, rms of each detected surface). docs/JSON_SCHEMA.md describes it.
+std::string to_json_range(const RangeFitResult& result, const std::vector<std::string>& sources);
 
 /// Whether `text` is a JSON document with "dimension": 3 (false for 2D or unparsable text).
 bool is_json3d(const std::string& text);

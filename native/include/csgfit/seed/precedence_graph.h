@@ -48,9 +48,14 @@ PrecedenceGraph build_precedence_graph(std::vector<SignedPrimitive> nodes,
                                        const std::vector<std::vector<int>>& adjacent,
                                        const std::vector<std::vector<Vec3>>& patch_points);
 
+/// The graph without node `node` (and its arcs), orders and subobjects recomputed; cuts left
+/// with nothing to cut go too.
+PrecedenceGraph without_node(const PrecedenceGraph& graph, int node);
+
 /// The tree of the graph: per subobject, its primitives applied in order (odd orders added,
-/// even subtracted), and the union of the subobjects.
-Node3D precedence_tree(const PrecedenceGraph& graph);
+/// even subtracted), and the union of the subobjects. `leaf_nodes`, when given, receives the
+/// graph node of each leaf in depth-first order.
+Node3D precedence_tree(const PrecedenceGraph& graph, std::vector<int>* leaf_nodes = nullptr);
 
 /// Seed 002's Fig. 10 listing: subobjects, orders, each primitive with its axes, sizes, sign.
 std::string precedence_report(const PrecedenceGraph& graph);

@@ -58,13 +58,20 @@ void write_preview_png(const std::string& path, const Bitmap& target, const Bitm
       }
     }
   }
+  write_rgb_png(path, static_cast<int>(width), static_cast<int>(height), rgb);
+}
+
+void write_rgb_png(const std::string& path, int width, int height,
+                   const std::vector<std::uint8_t>& rgb) {
+  if (width <= 0 || height <= 0 ||
+      rgb.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3)
+    throw std::invalid_argument("write_rgb_png: size and pixels disagree");
   std::string encoded;
   auto append = [](void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data),
                                                static_cast<std::size_t>(size));
   };
-  if (!stbi_write_png_to_func(append, &encoded, static_cast<int>(width), static_cast<int>(height),
-                              3, rgb.data(), stride)) {
+  if (!stbi_write_png_to_func(append, &encoded, width, height, 3, rgb.data(), width * 3)) {
     io_detail::fail("cannot write " + io_detail::quoted(path) + ": PNG encoding failed");
   }
   write_file_atomic(path, encoded);

@@ -204,4 +204,50 @@ std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const st
   return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
 }
 
+namespace {
+
+ojson graph_to_json(const PrecedenceGraph& g) {
+  ojson nodes = ojson::array(), arcs = ojson::array();
+  for (std::size_t i = 0; i < g.nodes.size(); ++i) {
+    const SignedPrimitive& n = g.nodes[i];
+    const std::string where = "precedence_graph.nodes[" + std::to_string(i) + "]";
+    nodes.push_back(ojson{{"kind", std::string(to_string(n.primitive.kind))},
+                          {"sign", n.positive ? "positive" : "negative"},
+                          {"order", g.order[i]},
+                          {"subobject", g.subobject[i]},
+                          {"dims", {n.primitive.dims[0], n.primitive.dims[1], n.primitive.dims[2]}},
+                          {"primitive", node3d_to_json(Node3D::leaf(n.primitive), where)},
+                          {"patches", n.patches}});
+  }
+  for (const PrecedenceArc& a : g.arcs)
+    arcs.push_back(ojson{{"from", a.from}, {"to", a.to},
+                         {"kind", a.kind == ArcKind::Subtracting ? "subtracting" : "appending"}});
+  return ojson{{"subobjects", g.subobjects}, {"nodes", std::move(nodes)}, {"arcs", std::move(arcs)}};
+}
+
+}  // namespace
+
+std::string to_json_range(const RangeFitResult& result, const std::vector<std::string>& sources) {
+  ojson doc;
+  doc["schema"] = "csgfit/1";
+  doc["dimension"] = 3;
+  doc["units"] = "mm";
+  doc["source"] = sources.empty() ? std::string() : sources.front();
+  doc["sources"] = sources;
+  doc["tree"] = node3d_to_json(result.tree, "tree");
+  doc["stats"] = json_detail::stats_to_json(result.stats);
+  ojson views = ojson::array();
+  for (const ViewAgreement& v : result.views)
+    views.push_back(ojson{{"source", v.source}, {"silhouette_iou", v.silhouette_iou},
+                          {"depth_error", v.depth_error}});
+  doc["views"] = std::move(views);
+  doc["precedence_graph"] = graph_to_json(result.graph);
+  ojson patches = ojson::array();
+  for (const SurfacePatch& p : result.patches)
+    patches.push_back(ojson{{"kind", std::string(to_string(p.kind))}, {"points", p.points.size()},
+                            {"convex", p.convex}, {"rms", p.rms}});
+  doc["patches"] = std::move(patches);
+  return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
+}
+
 }  // namespace csgfit

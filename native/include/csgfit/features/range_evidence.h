@@ -1,0 +1,27 @@
+// What the views say about space: points seen on the part's surface, and points seen to be
+// empty (in front of a return along its ray, or along a ray that returned nothing). A tree
+// agrees with the views when its surface passes through the first and it leaves the second
+// outside; the hidden rest is free, so hidden extents come out as small as the views allow.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "csgfit/model/range_scan.h"
+
+namespace csgfit {
+
+struct RangeEvidence {
+  std::vector<Vec3> surface;  ///< seen on the surface
+  std::vector<Vec3> empty;    ///< seen to be outside the part
+  double tolerance = 0;       ///< how far a surface point may be from the tree's surface
+};
+
+/// Samples the evidence of `scans` (at most about `max_surface` surface points and twice as
+/// many empty points, spread evenly), with surface tolerance `tolerance`. Scans with a camera
+/// give empty points along their rays (in front of returns, and through the part's box where
+/// nothing returned); scans without one give them along the outward normals.
+RangeEvidence gather_evidence(const std::vector<RangeScan>& scans, double tolerance,
+                              std::size_t max_surface);
+
+}  // namespace csgfit

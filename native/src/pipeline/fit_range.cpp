@@ -1,0 +1,204 @@
+// The range stages in order (seed 002's Fig. 1): merged points and normals, surface patches,
+// primitive recognition, the precedence graph and its tree, and how the tree agrees with each
+// view.
+#include "csgfit/pipeline/fit_range.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "csgfit/error.h"
+#include "csgfit/eval/range_view.h"
+#include "csgfit/features/range_evidence.h"
+#include "csgfit/refine/range_refine.h"
+#include "csgfit/seed/range_primitives.h"
+#include "fit_request.h"
+#include "model/linalg.h"
+
+namespace csgfit {
+
+using namespace linalg;
+
+namespace {
+
+struct MergedPoints {
+  std::vector<Vec3> points, normals;
+  Bounds3 box;
+  double diagonal = 0;
+};
+
+Bounds3 bounds_of(const std::vector<Vec3>& points) {
+  Bounds3 b{points.front(), points.front()};
+  for (const Vec3& p : points)
+    for (int i = 0; i < 3; ++i) b.lo[i] = std::min(b.lo[i], p[i]), b.hi[i] = std::max(b.hi[i], p[i]);
+  return b;
+}
+
+// Two views of one part overlap once their cameras put them in one frame; boxes that do not
+// meet are two parts (or a wrong camera_to_world).
+void check_overlap(const std::vector<RangeScan>& scans) {
+  for (std::size_t a = 0; a < scans.size(); ++a)
+    for (std::size_t b = a + 1; b < scans.size(); ++b) {
+      const Bounds3 p = bounds_of(scans[a].points), q = bounds_of(scans[b].points);
+      for (int i = 0; i < 3; ++i)
+        if (p.hi[i] < q.lo[i] || q.hi[i] < p.lo[i])
+          throw InputError("the views '" + scans[a].source + "' and '" + scans[b].source +
+                           "' do not overlap after alignment: are they of one part?");
+    }
+}
+
+MergedPoints merge(const std::vector<RangeScan>& scans) {
+  MergedPoints m;
+  for (const RangeScan& s : scans) {
+    if (s.normals.size() != s.points.size())
+      throw std::invalid_argument("fit_range: every scan needs one normal per point");
+    m.points.insert(m.points.end(), s.points.begin(), s.points.end());
+    m.normals.insert(m.normals.end(), s.normals.begin(), s.normals.end());
+  }
+  // The smallest input that can show two faces of one primitive with seed 002's tolerances.
+  constexpr std::size_t kMinPoints = 100;
+  if (m.points.size() < kMinPoints)
+    throw InputError("too few points to fit anything (" + std::to_string(m.points.size()) +
+                     ", at least " + std::to_string(kMinPoints) + " needed)");
+  m.box = bounds_of(m.points);
+  m.diagonal = norm(sub(m.box.hi, m.box.lo));
+  if (!(m.diagonal > 0) || !std::isfinite(m.diagonal))
+    throw InputError("the points span no volume");
+  return m;
+}
+
+SurfaceDetectOptions detector_for(const RangeFitOptions& o) {
+  SurfaceDetectOptions d = o.detect;
+  d.spheres = d.spheres && o.primitives.has(PrimitiveKind3D::Sphere);
+  d.cylinders = d.cylinders && o.primitives.has(PrimitiveKind3D::Cylinder);
+  d.cones = d.cones && o.primitives.has(PrimitiveKind3D::Cone);
+  d.tori = d.tori && o.primitives.has(PrimitiveKind3D::Torus);
+  return d;  // planes always: they are the bases of cylinders and cones too
+}
+
+// Blocks only where boxes are allowed (a plane may still be a base of an allowed kind).
+std::vector<SignedPrimitive> allowed(std::vector<SignedPrimitive> prims, const PrimitiveSet3D& set,
+                                     std::vector<std::vector<int>>& adjacent,
+                                     std::vector<std::vector<Vec3>>& points) {
+  std::vector<int> index(prims.size(), -1);
+  std::vector<SignedPrimitive> kept;
+  for (std::size_t i = 0; i < prims.size(); ++i)
+    if (set.has(prims[i].primitive.kind)) index[i] = static_cast<int>(kept.size()), kept.push_back(prims[i]);
+  std::vector<std::vector<int>> adj(kept.size());
+  std::vector<std::vector<Vec3>> pts(kept.size());
+  for (std::size_t i = 0; i < prims.size(); ++i) {
+    if (index[i] < 0) continue;
+    pts[index[i]] = std::move(points[i]);
+    for (int j : adjacent[i])
+      if (index[j] >= 0) adj[index[i]].push_back(index[j]);
+  }
+  adjacent = std::move(adj);
+  points = std::move(pts);
+  return kept;
+}
+
+std::vector<int> patch_labels(const std::vector<SurfacePatch>& patches, std::size_t n) {
+  std::vector<int> label(n, -1);
+  for (std::size_t k = 0; k < patches.size(); ++k)
+    for (int i : patches[k].points) label[i] = static_cast<int>(k);
+  return label;
+}
+
+double evidence_score(const PrecedenceGraph& g, const RangeEvidence& evidence, double k) {
+  const Node3D tree = precedence_tree(g);
+  return static_cast<double>(evidence_mismatch(tree, evidence).total()) +
+         k * static_cast<double>(tree.primitive_count());
+}
+
+// Greedy: drops the primitive whose removal lowers the score most, while one does; a primitive
+// stays only if it explains more of what the views saw than the size weight.
+void prune_by_evidence(PrecedenceGraph& g, const RangeEvidence& evidence, double k) {
+  double best = evidence_score(g, evidence, k);
+  while (g.nodes.size() > 1) {
+    int drop = -1;
+    for (std::size_t i = 0; i < g.nodes.size(); ++i) {
+      const double s = evidence_score(without_node(g, static_cast<int>(i)), evidence, k);
+      if (s < best) best = s, drop = static_cast<int>(i);
+    }
+    if (drop < 0) return;
+    g = without_node(g, drop);
+  }
+}
+
+// The whole tree polished against the evidence, the result written back to the graph's nodes.
+void refine_graph(PrecedenceGraph& g, const RangeEvidence& evidence,
+                  std::chrono::steady_clock::time_point deadline, const std::atomic<bool>* cancel) {
+  std::vector<int> leaf_nodes;
+  Node3D tree = precedence_tree(g, &leaf_nodes);
+  refine_to_evidence(tree, evidence, deadline, cancel);
+  const std::vector<const Primitive3D*> refined = leaves(static_cast<const Node3D&>(tree));
+  for (std::size_t i = 0; i < refined.size(); ++i) g.nodes[leaf_nodes[i]].primitive = *refined[i];
+}
+
+bool report(const ProgressCallback& progress, double fraction, double seconds,
+            std::size_t primitives) {
+  if (!progress) return true;
+  FitProgress p;
+  p.fraction = fraction;
+  p.seconds = seconds;
+  p.best_primitives = primitives;
+  return progress(p);
+}
+
+}  // namespace
+
+RangeFitResult fit_range(const std::vector<RangeScan>& scans, const RangeFitOptions& options,
+                         const ProgressCallback& progress, const std::atomic<bool>* cancel) {
+  if (scans.empty()) throw std::invalid_argument("fit_range: no scan given");
+  if (options.primitives.empty()) throw std::invalid_argument("no primitive type allowed");
+  if (!(options.time_limit > 0)) throw std::invalid_argument("the time budget must be positive");
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  check_overlap(scans);
+  const MergedPoints merged = merge(scans);
+
+  RangeFitResult result;
+  result.diagonal = merged.diagonal;
+  result.patches = detect_surfaces(merged.points, merged.normals, detector_for(options), options.seed);
+  result.patch_of_point = patch_labels(result.patches, merged.points.size());
+  const bool go_on = report(progress, 0.4, elapsed(), 0) && !(cancel && cancel->load());
+
+  const double contact = 0.02 * merged.diagonal;
+  RecognisedPrimitives rec =
+      recognise_primitives(result.patches, merged.points, merged.normals, merged.diagonal, contact);
+  rec.primitives = allowed(std::move(rec.primitives), options.primitives, rec.adjacent, rec.patch_points);
+  result.graph = build_precedence_graph(std::move(rec.primitives), rec.adjacent, rec.patch_points);
+  if (!result.graph.nodes.empty() && go_on) {
+    // The surface tolerance: twice RANSAC's, so that sensor noise is not a mismatch.
+    const RangeEvidence evidence = gather_evidence(scans, 0.008 * merged.diagonal, 6000);
+    const double k = evidence_k(evidence);
+    prune_by_evidence(result.graph, evidence, k);
+    refine_graph(result.graph, evidence, at_fraction(start, options.time_limit, 0.9), cancel);
+    prune_by_evidence(result.graph, evidence, k);
+  }
+  result.tree = precedence_tree(result.graph);
+  if (result.tree.is_leaf() && result.graph.nodes.empty())
+    throw InputError("no primitive surface recognised in the points");
+
+  report(progress, 0.8, elapsed(), result.tree.primitive_count());
+  double iou_sum = 0;
+  int cameras = 0;
+  for (const RangeScan& scan : scans) {
+    if (!scan.camera || !scan.organised()) continue;
+    const DepthAgreement a =
+        compare_depth(scan, tree_depth_map(result.tree, *scan.camera, 1e-4 * merged.diagonal));
+    result.views.push_back({scan.source, a.silhouette_iou, a.mean_depth_error});
+    iou_sum += a.silhouette_iou, ++cameras;
+  }
+  result.stats.primitives = result.tree.primitive_count();
+  result.stats.iou = cameras ? iou_sum / cameras : 0;
+  result.stats.seconds = elapsed();
+  result.stats.stop_reason = go_on ? "converged" : "cancelled";
+  report(progress, 1.0, elapsed(), result.stats.primitives);
+  return result;
+}
+
+}  // namespace csgfit
