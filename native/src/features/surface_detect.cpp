@@ -160,6 +160,83 @@ bool plausible(const SurfacePatch& s, double diagonal) {
   return false;
 }
 
+SurfaceDetectOptions none_of_the_kinds() {
+  SurfaceDetectOptions o;
+  o.planes = o.spheres = o.cylinders = o.cones = o.tori = false;
+  return o;
+}
+
+// A sphere's normals fan out in two directions; a band of a cylinder (or of a torus's tube)
+// also fits a sphere within epsilon, but its normals all lie in one plane.
+bool normals_fan_out(const SurfacePatch& s, const std::vector<Vec3>& normals) {
+  Mat3 c{};
+  for (int i : s.points)
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) c[r][q] += normals[i][r] * normals[i][q];
+  Vec3 values;
+  Mat3 vectors;
+  symmetric_eigen3(c, values, vectors);
+  return values[2] > 0.05 * values[0];
+}
+
+// The detector's state across its passes: which points are taken, what was found.
+struct Detection {
+  const std::vector<Vec3>& points;
+  const std::vector<Vec3>& normals;
+  double diagonal;
+  Ransac::Parameters parameters;
+  std::vector<char> taken;
+  std::vector<SurfacePatch> patches;
+
+  // RANSAC on the free points in rounds: a shape refused leaves its points in the pool, and
+  // another round may find what they really are (a plane RANSAC first took for a cylinder as
+  // wide as a house). `proposal_normals` are what RANSAC sees; the fit uses the true ones.
+  void run(const SurfaceDetectOptions& kinds, const Ransac::Parameters& params,
+           const std::vector<Vec3>& proposal_normals, bool hollows_only = false) {
+    if (!(kinds.planes || kinds.spheres || kinds.cylinders || kinds.cones || kinds.tori)) return;
+    for (int round = 0; round < 4; ++round) {
+      std::size_t accepted = 0;
+      for (SurfacePatch& patch : detect_pass(points, proposal_normals, taken, kinds, params)) {
+        if (flat_enough(patch, diagonal)) patch.kind = SurfaceKind::Plane;
+        polish_patch(patch, points, normals);
+        keep_fitting_points(patch, points, normals, params);
+        polish_patch(patch, points, normals);
+        if (!plausible(patch, diagonal) || patch.points.size() < params.min_points) continue;
+        if (patch.kind == SurfaceKind::Sphere && !normals_fan_out(patch, normals)) continue;
+        patch.convex = is_convex(patch, points, normals);
+        if (hollows_only && patch.convex) continue;  // a bulge seen with its normals turned
+        patch.rms = patch_rms(patch, points);
+        for (int i : patch.points) taken[i] = 1;
+        patches.push_back(std::move(patch));
+        ++accepted;
+      }
+      if (accepted == 0) break;
+    }
+  }
+
+  // A sphere or cylinder patch found before a cone or torus that explains it is part of that
+  // surface (a torus's crown fits a sphere): it joins the general patch.
+  void absorb_into_general(std::size_t simple_end, const Ransac::Parameters& params) {
+    std::vector<char> absorbed(patches.size(), 0);
+    for (std::size_t g = simple_end; g < patches.size(); ++g)
+      for (std::size_t k = 0; k < simple_end; ++k) {
+        if (absorbed[k] || patches[k].kind == SurfaceKind::Plane) continue;
+        std::size_t fit = 0;
+        for (int i : patches[k].points)
+          fit += std::abs(surface_distance(patches[g], points[i])) <= params.epsilon &&
+                 std::abs(dot(normals[i], surface_normal(patches[g], points[i]))) >= params.normal_threshold;
+        if (10 * fit < 9 * patches[k].points.size()) continue;
+        patches[g].points.insert(patches[g].points.end(), patches[k].points.begin(), patches[k].points.end());
+        absorbed[k] = 1;
+      }
+    std::vector<SurfacePatch> kept;
+    for (std::size_t k = 0; k < patches.size(); ++k)
+      if (!absorbed[k]) kept.push_back(std::move(patches[k]));
+    patches = std::move(kept);
+    for (std::size_t g = 0; g < patches.size(); ++g) patches[g].rms = patch_rms(patches[g], points);
+  }
+};
+
 }  // namespace
 
 std::string_view to_string(SurfaceKind kind) {
@@ -180,47 +257,31 @@ std::vector<SurfacePatch> detect_surfaces(const std::vector<Vec3>& points,
   if (points.size() != normals.size())
     throw std::invalid_argument("detect_surfaces: one normal per point is needed");
   if (points.size() < 3) return {};
-  const double diagonal = diagonal_of(points);
-  const Ransac::Parameters parameters = ransac_parameters(options, diagonal, points.size());
+  Detection d{points, normals, diagonal_of(points), {}, std::vector<char>(points.size(), 0), {}};
+  d.parameters = ransac_parameters(options, d.diagonal, points.size());
   // CGAL draws from its default generator: seeding it makes the detection repeatable.
   CGAL::get_default_random() = CGAL::Random(static_cast<unsigned>(seed & 0x7fffffffu));
 
-  // Planes, spheres and cylinders first, cones and tori on what they leave: a near-cylinder is
-  // also a cone with a far apex and a sphere a torus with no hole, and RANSAC, which ranks
-  // candidates by points explained, would otherwise take the general form for the simple one.
-  SurfaceDetectOptions simple = options, general = options;
+  // CGAL proposes a sphere only where the normals point away from its centre, so hollows are
+  // looked for first with the normals turned round. Then planes, spheres and cylinders, and
+  // cones and tori last on what they leave: a near-cylinder is also a cone with a far apex and
+  // a sphere a torus with no hole, and RANSAC, which ranks candidates by points explained,
+  // would otherwise take the general form for the simple one. The general kinds must also
+  // explain more (1 % of the points): on leftovers a cone or torus fits any curved strip.
+  SurfaceDetectOptions hollows = none_of_the_kinds(), simple = options, general = options;
+  hollows.spheres = options.spheres;
   simple.cones = simple.tori = false;
   general.planes = general.spheres = general.cylinders = false;
-  std::vector<char> taken(points.size(), 0);
-  std::vector<SurfacePatch> patches;
-  // The general kinds must also explain more before they are believed: on what the simple ones
-  // leave (edges, noise) a cone or torus fits any small curved strip.
-  Ransac::Parameters general_parameters = parameters;
-  general_parameters.min_points = std::max(parameters.min_points, points.size() / 100);
-  for (const SurfaceDetectOptions* pass : {&simple, &general}) {
-    if (!(pass->planes || pass->spheres || pass->cylinders || pass->cones || pass->tori))
-      continue;
-    const Ransac::Parameters& params = pass == &simple ? parameters : general_parameters;
-    // A shape refused below leaves its points in the pool: another round may find what they
-    // really are (a plane that RANSAC first took for a cylinder as wide as a house).
-    for (int round = 0; round < 4; ++round) {
-      std::size_t accepted = 0;
-      for (SurfacePatch& patch : detect_pass(points, normals, taken, *pass, params)) {
-        if (flat_enough(patch, diagonal)) patch.kind = SurfaceKind::Plane;
-        polish_patch(patch, points, normals);
-        keep_fitting_points(patch, points, normals, params);
-        polish_patch(patch, points, normals);
-        if (!plausible(patch, diagonal) || patch.points.size() < params.min_points) continue;
-        patch.convex = is_convex(patch, points, normals);
-        patch.rms = patch_rms(patch, points);
-        for (int i : patch.points) taken[i] = 1;
-        patches.push_back(std::move(patch));
-        ++accepted;
-      }
-      if (accepted == 0) break;
-    }
-  }
-  return patches;
+  Ransac::Parameters general_parameters = d.parameters;
+  general_parameters.min_points = std::max(d.parameters.min_points, points.size() / 100);
+  std::vector<Vec3> turned(normals.size());
+  for (std::size_t i = 0; i < normals.size(); ++i) turned[i] = scale(normals[i], -1);
+  d.run(hollows, d.parameters, turned, true);
+  d.run(simple, d.parameters, normals);
+  const std::size_t simple_end = d.patches.size();
+  d.run(general, general_parameters, normals);
+  d.absorb_into_general(simple_end, general_parameters);
+  return std::move(d.patches);
 }
 
 }  // namespace csgfit
