@@ -166,9 +166,8 @@ SurfaceDetectOptions none_of_the_kinds() {
   return o;
 }
 
-// A sphere's normals fan out in two directions; a band of a cylinder (or of a torus's tube)
-// also fits a sphere within epsilon, but its normals all lie in one plane.
-bool normals_fan_out(const SurfacePatch& s, const std::vector<Vec3>& normals) {
+// The spread of a patch's normals: the eigenvalues of their scatter, largest first.
+Vec3 normal_spread(const SurfacePatch& s, const std::vector<Vec3>& normals) {
   Mat3 c{};
   for (int i : s.points)
     for (int r = 0; r < 3; ++r)
@@ -176,7 +175,28 @@ bool normals_fan_out(const SurfacePatch& s, const std::vector<Vec3>& normals) {
   Vec3 values;
   Mat3 vectors;
   symmetric_eigen3(c, values, vectors);
-  return values[2] > 0.05 * values[0];
+  return values;
+}
+
+// Whether the patch is curved enough to be what RANSAC says. A sphere's normals fan out in
+// two directions (a band of a cylinder fits a sphere within epsilon too, but its normals lie
+// in one plane); a cylinder's or cone's turn by 10 degrees at least (a strip along a
+// concave edge, where an image's normals blend, fits a wide cylinder as well).
+bool curved_enough(const SurfacePatch& s, const std::vector<Vec3>& normals) {
+  if (s.kind == SurfaceKind::Plane) return true;
+  const Vec3 v = normal_spread(s, normals);
+  if (s.kind == SurfaceKind::Sphere) return v[2] > 0.05 * v[0];
+  return v[1] > 0.003 * v[0];
+}
+
+// A curved patch whose points a plane fits within a third of epsilon is that plane.
+bool fits_a_plane(const SurfacePatch& s, const std::vector<Vec3>& points,
+                  const std::vector<Vec3>& normals, double epsilon) {
+  if (s.kind == SurfaceKind::Plane || s.points.size() < 8) return false;
+  SurfacePatch plane = s;
+  plane.kind = SurfaceKind::Plane;
+  polish_patch(plane, points, normals);
+  return patch_rms(plane, points) < epsilon / 3;
 }
 
 // The detector's state across its passes: which points are taken, what was found.
@@ -198,11 +218,13 @@ struct Detection {
       std::size_t accepted = 0;
       for (SurfacePatch& patch : detect_pass(points, proposal_normals, taken, kinds, params)) {
         if (flat_enough(patch, diagonal)) patch.kind = SurfaceKind::Plane;
-        polish_patch(patch, points, normals);
-        keep_fitting_points(patch, points, normals, params);
-        polish_patch(patch, points, normals);
+        refit(patch, params);
+        if (fits_a_plane(patch, points, normals, params.epsilon)) {
+          patch.kind = SurfaceKind::Plane;
+          refit(patch, params);
+        }
         if (!plausible(patch, diagonal) || patch.points.size() < params.min_points) continue;
-        if (patch.kind == SurfaceKind::Sphere && !normals_fan_out(patch, normals)) continue;
+        if (!curved_enough(patch, normals)) continue;
         patch.convex = is_convex(patch, points, normals);
         if (hollows_only && patch.convex) continue;  // a bulge seen with its normals turned
         patch.rms = patch_rms(patch, points);
@@ -212,6 +234,14 @@ struct Detection {
       }
       if (accepted == 0) break;
     }
+  }
+
+  // The least-squares polish, then only the points the polished surface explains, polished
+  // again on them.
+  void refit(SurfacePatch& patch, const Ransac::Parameters& params) const {
+    polish_patch(patch, points, normals);
+    keep_fitting_points(patch, points, normals, params);
+    polish_patch(patch, points, normals);
   }
 
   // A sphere or cylinder patch found before a cone or torus that explains it is part of that
