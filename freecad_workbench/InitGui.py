@@ -3,10 +3,12 @@
 
 
 class CSGFitWorkbench(Gui.Workbench):  # noqa: F821 (Gui is provided by FreeCAD)
-    """Fit compact CSG trees to bitmaps and build them as parametric Part trees."""
+    """Fit compact CSG trees to bitmaps, meshes and range images and build them as parametric
+    Part trees."""
 
     MenuText = "CSG Fit"
-    ToolTip = "Turn bitmaps into compact, editable CSG trees of Part primitives"
+    ToolTip = ("Turn bitmaps, meshes and range images into compact, editable CSG trees of "
+               "Part primitives")
 
     def __init__(self):
         import csgfit_freecad

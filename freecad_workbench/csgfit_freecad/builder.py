@@ -129,6 +129,8 @@ def _parameter_sheet(doc, name: str, label: str, result: Dict[str, Any],
                 ("Pixel size (mm)",
                  f"={float(result.get('canvas', {}).get('pixel_size') or 1.0)!r}mm",
                  "pixel_size")]
+    elif "precedence_graph" in result:
+        rows = _range_rows(result)
     else:
         grid = result.get("grid") or {}
         rows = [("Voxel size (mm)", f"={float(grid.get('voxel_size') or 0.0)!r}mm",
@@ -143,6 +145,21 @@ def _parameter_sheet(doc, name: str, label: str, result: Dict[str, Any],
     return sheet
 
 
+def _range_rows(result: Dict[str, Any]):
+    """A range fit (seed 002) was scored against its views, not on a grid: the sheet records
+    the segmentation, the precedence graph and how each view agrees with the tree."""
+    graph = result.get("precedence_graph") or {}
+    rows = [("Surface patches", str(len(result.get("patches") or [])), None),
+            ("Subobjects", str(int(graph.get("subobjects") or 0)), None)]
+    for view in result.get("views") or []:
+        name = os.path.basename(view.get("source") or "view")
+        rows.append((f"{name}: silhouette IoU", repr(float(view.get("silhouette_iou") or 0.0)),
+                     None))
+        rows.append((f"{name}: depth error (mm)", f"={float(view.get('depth_error') or 0.0)!r}mm",
+                     None))
+    return rows
+
+
 def _record(group, result: Dict[str, Any], stats: Dict[str, Any], alternative: int,
             built: PartTree, root, scad: Optional[str]) -> None:
     """The result on the group as read-only properties (Export OpenSCAD reads them back)."""
@@ -154,10 +171,11 @@ def _record(group, result: Dict[str, Any], stats: Dict[str, Any], alternative: i
     prop("App::PropertyString", "CsgFitJson", "The fitted result (csgfit/1 JSON)",
          json.dumps(result))
     prop("App::PropertyString", "CsgFitSource", "Input image or mesh", result.get("source") or "")
-    prop("App::PropertyInteger", "CsgFitDimension", "2 (bitmap) or 3 (mesh, voxels)",
+    prop("App::PropertyInteger", "CsgFitDimension", "2 (bitmap) or 3 (mesh, voxels, range)",
          dimension(result))
     prop("App::PropertyInteger", "CsgFitAlternative", "Tree shown (-1 = best)", alternative)
-    prop("App::PropertyFloat", "CsgFitIoU", "IoU of the fit on the pixel or voxel grid",
+    prop("App::PropertyFloat", "CsgFitIoU",
+         "IoU of the fit on the pixel or voxel grid (range: the views' silhouette IoU)",
          float(stats.get("iou") or 0.0))
     prop("App::PropertyInteger", "CsgFitPrimitives", "Primitives in the tree",
          len(built.primitives))

@@ -1,4 +1,5 @@
-"""GUI commands of the CSG Fit workbench: "Image to CSG", "Mesh to CSG" and "Export OpenSCAD"."""
+"""GUI commands of the CSG Fit workbench: "Image to CSG", "Mesh to CSG", "Range image to CSG"
+and "Export OpenSCAD"."""
 
 import os
 
@@ -10,9 +11,10 @@ from . import builder, icon, import_csgfit
 
 IMAGE_TO_CSG = "CSGFit_ImageToCSG"
 MESH_TO_CSG = "CSGFit_MeshToCSG"
+RANGE_TO_CSG = "CSGFit_RangeToCSG"
 EXPORT_SCAD = "CSGFit_ExportOpenSCAD"
-COMMANDS = [IMAGE_TO_CSG, MESH_TO_CSG, EXPORT_SCAD]
-#: The last Image to CSG or Mesh to CSG panel opened (scripts and the GUI test drive it).
+COMMANDS = [IMAGE_TO_CSG, MESH_TO_CSG, RANGE_TO_CSG, EXPORT_SCAD]
+#: The last fit panel opened (scripts and the GUI test drive it).
 active_panel = None
 
 
@@ -70,6 +72,26 @@ class MeshToCsgCommand:
             if not path:
                 return
         active_panel = MeshToCsgPanel(mesh_object=mesh, path=path)
+        Gui.Control.showDialog(active_panel)
+
+
+class RangeToCsgCommand:
+    """Opens the Range image to CSG task panel (the files are chosen in it)."""
+
+    def GetResources(self):
+        return {"Pixmap": icon("csgfit_range_to_csg"),
+                "MenuText": "Range image to CSG",
+                "ToolTip": "Fit a parametric CSG tree (blocks and cylinders in machining order) "
+                           "to range images or point clouds of one part"}
+
+    def IsActive(self):
+        return not Gui.Control.activeDialog()
+
+    def Activated(self):
+        global active_panel
+        from .range_panel import RangeToCsgPanel
+
+        active_panel = RangeToCsgPanel()
         Gui.Control.showDialog(active_panel)
 
 
@@ -149,5 +171,6 @@ def register():
     if not _registered:
         Gui.addCommand(IMAGE_TO_CSG, ImageToCsgCommand())
         Gui.addCommand(MESH_TO_CSG, MeshToCsgCommand())
+        Gui.addCommand(RANGE_TO_CSG, RangeToCsgCommand())
         Gui.addCommand(EXPORT_SCAD, ExportScadCommand())
         _registered = True

@@ -7,6 +7,7 @@
 
 #include "csgfit/error.h"
 #include "csgfit/io/mesh_read.h"
+#include "csgfit/io/range_read.h"
 
 namespace csgfit_python {
 
@@ -27,6 +28,12 @@ void check_image_array(const py::array& a) {
     throw csgfit::InputError("empty image (" + size + " pixels)");
   if (a.shape(0) > 1 << 20 || a.shape(1) > 1 << 20)
     throw csgfit::InputError("image too large (" + size + " pixels)");
+}
+
+std::string shape_text(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
+  return s + (a.ndim() == 1 ? ",)" : ")");
 }
 
 void check_grid_frame(const std::vector<double>& origin, double voxel_size) {
@@ -145,6 +152,27 @@ csgfit::TriangleMesh mesh_from_arrays(const F64Array& vertices, const I64Array& 
           static_cast<int>(idx);
     }
   return mesh;
+}
+
+std::vector<csgfit::Vec3> vec3s_from_array(const F64Array& a, const char* name) {
+  if (a.ndim() != 2 || a.shape(1) != 3)
+    throw csgfit::InputError(std::string(name) + " must be an (n, 3) array, got shape " +
+                             shape_text(a));
+  const csgfit::RangeReadOptions limits;
+  if (a.shape(0) > limits.max_points)
+    throw csgfit::InputError(std::string(name) + ": too many points (" +
+                             std::to_string(a.shape(0)) + ", at most " +
+                             std::to_string(limits.max_points) + ")");
+  auto v = a.unchecked<2>();
+  std::vector<csgfit::Vec3> out(static_cast<std::size_t>(a.shape(0)));
+  for (py::ssize_t i = 0; i < a.shape(0); ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(v(i, k)))
+        throw csgfit::InputError(std::string(name) + " row " + std::to_string(i) +
+                                 " is not finite");
+      out[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)] = v(i, k);
+    }
+  return out;
 }
 
 py::tuple mesh_arrays(const csgfit::TriangleMesh& mesh) {

@@ -11,6 +11,7 @@
 #include "csgfit/io/image.h"
 #include "csgfit/model/bitmap.h"
 #include "csgfit/model/mesh.h"
+#include "csgfit/model/quaternion.h"
 #include "csgfit/model/voxel_grid.h"
 
 namespace csgfit_python {
@@ -35,6 +36,8 @@ py::tuple grid_tuple(const csgfit::VoxelGrid& grid);
 
 /// (n, 3) finite vertices and (m, 3) triangles indexing them.
 csgfit::TriangleMesh mesh_from_arrays(const F64Array& vertices, const I64Array& triangles);
+/// An (n, 3) array of finite coordinates (points or normals); `name` says which in messages.
+std::vector<csgfit::Vec3> vec3s_from_array(const F64Array& a, const char* name);
 /// (vertices float (n, 3), triangles int32 (m, 3)).
 py::tuple mesh_arrays(const csgfit::TriangleMesh& mesh);
 

@@ -14,6 +14,8 @@ void bind_progress(pybind11::module_& m);
 void bind_2d(pybind11::module_& m);
 /// The mesh and voxel fit (one entry: fit_input3d) and its result.
 void bind_3d(pybind11::module_& m);
+/// The range fit (range images, point files and arrays) and its result.
+void bind_range(pybind11::module_& m);
 /// Readers of images, meshes and voxel grids, thresholding and voxelising.
 void bind_io(pybind11::module_& m);
 

@@ -7,12 +7,13 @@
 
 PYBIND11_MODULE(_csgfit, m) {
   m.doc() =
-      "Native core of the csgfit package: bitmap, mesh and voxel to CSG tree fitting. Use the "
-      "`csgfit` package (csgfit.fit_image, csgfit.fit_mesh, csgfit.fit_voxels) rather than this "
-      "module directly.";
+      "Native core of the csgfit package: bitmap, mesh, voxel and range to CSG tree "
+      "fitting. Use the `csgfit` package (csgfit.fit_image, csgfit.fit_mesh, csgfit.fit_voxels, "
+      "csgfit.fit_range, csgfit.fit_points) rather than this module directly.";
   csgfit_python::bind_errors(m);
   csgfit_python::bind_progress(m);
   csgfit_python::bind_io(m);
   csgfit_python::bind_2d(m);
   csgfit_python::bind_3d(m);
+  csgfit_python::bind_range(m);
 }

@@ -1,9 +1,10 @@
 # GUI test macro, run by test_freecad_gui.py as `xvfb-run -a freecad gui_macro.py`.
 # Drives the CSG Fit workbench through its own code: activates it, then runs the scenario
 # $CSGFIT_GUI_SCENARIO: "image" (default) runs "Image to CSG" on the bitmap $CSGFIT_GUI_IMAGE,
-# "mesh" runs "Mesh to CSG" on the mesh object made from $CSGFIT_GUI_MESH, both through the task
-# panel (bad input, cancel, fit, preview, accept); it checks the tree, exports OpenSCAD, saves
-# screenshots, writes a JSON report to $CSGFIT_GUI_REPORT and exits.
+# "mesh" runs "Mesh to CSG" on the mesh object made from $CSGFIT_GUI_MESH, "range" runs "Range
+# image to CSG" on the range image $CSGFIT_GUI_RANGE, all through the task panel (bad input,
+# cancel, fit, preview, accept); it checks the tree, exports OpenSCAD, saves screenshots, writes
+# a JSON report to $CSGFIT_GUI_REPORT and exits.
 import json
 import os
 import sys
@@ -117,7 +118,7 @@ def main():
         mw.resizeDocks([dock], [470], QtCore.Qt.Horizontal)
     Gui.activateWorkbench("CSGFitWorkbench")
     report["workbench"] = Gui.activeWorkbench().MenuText
-    {"image": image_scenario, "mesh": mesh_scenario}[SCENARIO]()
+    {"image": image_scenario, "mesh": mesh_scenario, "range": range_scenario}[SCENARIO]()
 
 
 def image_scenario():
@@ -230,6 +231,57 @@ def mesh_scenario():
     report["bad_file_status"] = bad.status.text()
 
     scad = os.path.join(os.path.dirname(REPORT), "gui_export_mesh.scad")
+    commands.export_scad(group, scad)
+    report["scad_bytes"] = os.path.getsize(scad)
+    report["ok"] = True
+
+
+def range_scenario():
+    from csgfit_freecad import builder, commands
+
+    path = os.environ["CSGFIT_GUI_RANGE"]
+    doc = App.newDocument("RangeToCSG")
+    Gui.runCommand(commands.RANGE_TO_CSG)
+    pump(0.5)
+    panel = commands.active_panel
+    assert panel is not None and type(panel).__name__ == "RangeToCsgPanel", \
+        "the command did not open the Range image to CSG panel"
+    step("panel opened")
+
+    panel.set_file("/nonexistent/missing.png")
+    report["bad_file_status"] = panel.status.text()
+    panel.set_file(path)
+    report["projection"] = panel.projection.currentText()
+    report["pixel_size"] = panel.sensor["pixel_size"].value()
+    report["sensor_note"] = panel.sensor_note.text()
+    report["intrinsics_unedited"] = panel.intrinsics()
+    # A field typed over the sidecar is passed as an override, and only that one.
+    panel.sensor["depth_unit"].setValue(panel.sensor["depth_unit"].value() * 2)
+    report["intrinsics_edited"] = sorted(panel.intrinsics())
+    panel.set_file(path)  # choosing the file again reads the sidecar again
+
+    panel.time.setValue(60)
+    cancel_a_long_fit(panel, 0.2)
+
+    panel.time.setValue(20)
+    panel.seed.setValue(1)
+    panel.start_fit()
+    report["fit_seconds"] = wait_fit(panel, 60)
+    report["status"] = panel.status.text()
+    report["preview"] = not panel.preview.pixmap().isNull()
+    report["report_text"] = panel.report_text.toPlainText()
+    report["primitives"] = panel.result.stats.primitives
+    report["subobjects"] = panel.result.precedence_graph.subobjects
+    pump(0.3)
+    shot("freecad_range_to_csg.png")
+
+    accepted = panel.accept()
+    pump(0.5)
+    report["accepted"] = bool(accepted)
+    group = check_built(doc, builder)
+    show_tree(group, builder, "Part::Cylinder")
+    shot("freecad_range_result_tree.png")
+    scad = os.path.join(os.path.dirname(REPORT), "gui_export_range.scad")
     commands.export_scad(group, scad)
     report["scad_bytes"] = os.path.getsize(scad)
     report["ok"] = True

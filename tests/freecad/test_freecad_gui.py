@@ -1,6 +1,7 @@
 """GUI tests of the CSG Fit workbench: FreeCAD under xvfb-run runs gui_macro.py, which drives
-"Image to CSG" (on a benchmark bitmap) or "Mesh to CSG" (on a mesh object made from a fixture
-STL) through the task panels' own code and reports back.
+"Image to CSG" (on a benchmark bitmap), "Mesh to CSG" (on a mesh object made from a fixture
+STL) or "Range image to CSG" (on seed 002's object_b range image) through the task panels' own
+code and reports back.
 
 The workbench is installed with scripts/install_workbench.sh into a throw-away HOME, so the
 tests also check that FreeCAD finds it where the installer puts it. Screenshots go to the test's
@@ -97,4 +98,29 @@ def test_mesh_to_csg_through_the_task_panel(tmp_path):
     assert "missing.stl" in r["bad_file_status"]
     assert r["scad_bytes"] > 100
     for name in ("freecad_mesh_to_csg.png", "freecad_mesh_result_tree.png"):
+        assert os.path.getsize(os.path.join(shots, name)) > 10000
+
+
+def test_range_to_csg_through_the_task_panel(tmp_path):
+    rng = os.path.join(os.path.dirname(H.BENCH), "range", "object_b_ortho.png")
+    if not os.path.exists(rng):
+        pytest.skip(f"benchmark {rng} not present")
+    with open(os.path.splitext(rng)[0] + ".json") as f:
+        sidecar = json.load(f)
+    r, shots = run_macro(tmp_path, "range", CSGFIT_GUI_RANGE=rng)
+    assert "missing.png" in r["bad_file_status"]
+    # The sidecar fills the sensor fields; untouched, they are not passed as overrides.
+    assert r["projection"] == "orthographic"
+    assert r["pixel_size"] == pytest.approx(sidecar["pixel_size"], rel=1e-9)
+    assert "object_b_ortho.json" in r["sensor_note"]
+    assert r["intrinsics_unedited"] == {} and r["intrinsics_edited"] == ["depth_unit"]
+    assert r["cancel_stop_reason"] == "cancelled" and r["cancel_seconds"] < 5.0
+    assert r["primitives"] == 5 and r["subobjects"] == 2
+    assert r["preview"] and r["report_text"].startswith("There are 2 subobjects:")
+    assert r["accepted"] and r["dialog_closed"]
+    assert r["groups"] == ["object_b_ortho"]
+    assert r["problems"] == [] and r["root_valid"] and r["root_volume"] > 0
+    assert set(r["types"]) <= PARAMETRIC and "Part::Cut" in r["types"]
+    assert r["scad_bytes"] > 100
+    for name in ("freecad_range_to_csg.png", "freecad_range_result_tree.png"):
         assert os.path.getsize(os.path.join(shots, name)) > 10000

@@ -10,6 +10,11 @@
 FitResult3D, the same kind of object: its ``tree`` is Node / Primitive3D objects in the mesh's
 units, and its ``document`` is the dimension-3 JSON document of ``csgfit mesh -o x.json``.
 
+Range images and point clouds (seed 002): ``csgfit.fit_range("part.png")`` (a path or a list
+of views of one part) or ``csgfit.fit_points(xyz_array)`` return a RangeFitResult: the tree,
+its ``precedence_graph`` (subobjects, orders, signs), ``report()``, ``views``, ``patches``,
+``save_preview(png)`` and ``save(path)`` (.scad, .json, .step, .FCStd).
+
 Coordinates follow the project's contract: an image of W x H pixels with pixel size s covers
 [0, W*s] x [0, H*s] with y pointing up; angles are degrees counter-clockwise.
 
@@ -25,11 +30,14 @@ from .bitmaps import fit_image, load_bitmap, load_json
 from .meshes import fit_mesh, fit_voxels, load_mesh, load_voxels, voxelize
 from .options import (DEFAULT_PRIMITIVES_3D, PRIMITIVE_TYPES, PRIMITIVE_TYPES_3D, QUALITIES,
                       CancelToken, FitProgress, InputError)
-from .results import Alternative, FitResult, FitResult3D, FitStats, Result
+from .ranges import (DEFAULT_PRIMITIVES_RANGE, GraphArc, GraphNode, PrecedenceGraph,
+                     RangeFitResult, SurfacePatch, ViewAgreement, fit_points, fit_range)
+from .results import Alternative, FitResult, FitResult3D, FitStats, GridResult, Result
 from .tree import SIZE_FIELDS_3D, Node, Primitive, Primitive3D
 
 __all__ = [
     "DEFAULT_PRIMITIVES_3D",
+    "DEFAULT_PRIMITIVES_RANGE",
     "PRIMITIVE_TYPES",
     "PRIMITIVE_TYPES_3D",
     "QUALITIES",
@@ -40,14 +48,23 @@ __all__ = [
     "FitResult",
     "FitResult3D",
     "FitStats",
+    "GraphArc",
+    "GraphNode",
+    "GridResult",
     "InputError",
     "Node",
     "Primitive",
+    "PrecedenceGraph",
     "Primitive3D",
+    "RangeFitResult",
     "Result",
+    "SurfacePatch",
+    "ViewAgreement",
     "default_k",
     "fit_image",
     "fit_mesh",
+    "fit_points",
+    "fit_range",
     "fit_voxels",
     "load_bitmap",
     "load_json",

@@ -41,7 +41,7 @@ class FitStats:
 
 
 class Result:
-    """What FitResult and FitResult3D share.
+    """What FitResult, FitResult3D and RangeFitResult share.
 
     tree: the best tree (Node over Primitive or Primitive3D leaves, model units).
     stats: its FitStats. source: the input's file name ('' for arrays).
@@ -56,15 +56,6 @@ class Result:
         self.stats = stats
 
     source = property(lambda self: self._native.source, doc="Input file name ('' for arrays).")
-
-    def raster(self):
-        """The solver's raster of the best tree on the target's grid: a bool numpy array,
-        (height, width) with row 0 on top in 2D, [i, j, k] = voxel (x, y, z) in 3D."""
-        return self._native.raster()
-
-    def target(self):
-        """What was fitted, as raster() shows it (True = shape); None for a loaded 2D JSON."""
-        return self._native.target()
 
     def to_json(self) -> str:
         """The result as JSON text (schema csgfit/1: docs/JSON_SCHEMA.md)."""
@@ -83,6 +74,19 @@ class Result:
         return (f"{type(self).__name__}(primitives={self.stats.primitives}, "
                 f"iou={self.stats.iou:.4f}, seconds={self.stats.seconds:.2f}, "
                 f"stop_reason={self.stats.stop_reason!r})")
+
+
+class GridResult(Result):
+    """A result fitted on a pixel or voxel grid: raster() and target() show both on it."""
+
+    def raster(self):
+        """The solver's raster of the best tree on the target's grid: a bool numpy array,
+        (height, width) with row 0 on top in 2D, [i, j, k] = voxel (x, y, z) in 3D."""
+        return self._native.raster()
+
+    def target(self):
+        """What was fitted, as raster() shows it (True = shape); None for a loaded 2D JSON."""
+        return self._native.target()
 
 
 class Alternative:
@@ -107,7 +111,7 @@ class Alternative:
                 f"tree={self.tree})")
 
 
-class FitResult(Result):
+class FitResult(GridResult):
     """The outcome of fit_image (or load_json).
 
     tree: Node / Primitive objects in model units. alternatives: list of Alternative, best
@@ -140,7 +144,7 @@ class FitResult(Result):
                 "width": self.width, "height": self.height, "source": self.source}
 
 
-class FitResult3D(Result):
+class FitResult3D(GridResult):
     """The outcome of fit_mesh / fit_voxels.
 
     tree: Node / Primitive3D objects in the input's own units. document: the dimension-3 JSON
