@@ -37,12 +37,6 @@ using namespace linalg;
 Vec3 vec(const Kernel::Vector_3& v) { return {v.x(), v.y(), v.z()}; }
 Vec3 vec(const Kernel::Point_3& p) { return {p.x(), p.y(), p.z()}; }
 
-double diagonal_of(const std::vector<Vec3>& points) {
-  Vec3 lo = points.front(), hi = points.front();
-  for (const Vec3& p : points)
-    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
-  return std::sqrt(squared(sub(hi, lo)));
-}
 
 Ransac::Parameters ransac_parameters(const SurfaceDetectOptions& o, double diagonal,
                                      std::size_t n) {
@@ -100,7 +94,8 @@ std::vector<SurfacePatch> detect_pass(const std::vector<Vec3>& points,
                                       const std::vector<Vec3>& normals,
                                       const std::vector<char>& taken,
                                       const SurfaceDetectOptions& kinds,
-                                      const Ransac::Parameters& parameters) {
+                                      const Ransac::Parameters& parameters,
+                                      const std::atomic<bool>* cancel) {
   PointList list;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (taken[i]) continue;
@@ -113,7 +108,8 @@ std::vector<SurfacePatch> detect_pass(const std::vector<Vec3>& points,
   Ransac ransac;
   ransac.set_input(list);
   add_factories(ransac, kinds);
-  ransac.detect(parameters);
+  // CGAL asks between candidates whether to go on.
+  ransac.detect(parameters, [cancel](double) { return !(cancel && cancel->load()); });
   for (const auto& shape : ransac.shapes()) {
     SurfacePatch patch;
     if (!read_shape(*shape, patch)) continue;
@@ -189,14 +185,18 @@ bool curved_enough(const SurfacePatch& s, const std::vector<Vec3>& normals) {
   return v[1] > 0.003 * v[0];
 }
 
-// A curved patch whose points a plane fits within a third of epsilon is that plane.
+// A curved patch whose points a plane fits as well (and within a third of epsilon) is that
+// plane.
 bool fits_a_plane(const SurfacePatch& s, const std::vector<Vec3>& points,
                   const std::vector<Vec3>& normals, double epsilon) {
   if (s.kind == SurfaceKind::Plane || s.points.size() < 8) return false;
-  SurfacePatch plane = s;
-  plane.kind = SurfaceKind::Plane;
-  polish_patch(plane, points, normals);
-  return patch_rms(plane, points) < epsilon / 3;
+  SurfacePatch plane_patch = s;
+  plane_patch.kind = SurfaceKind::Plane;
+  polish_patch(plane_patch, points, normals);
+  // A plane that explains the points about as well as the curve does (within sensor noise of
+  // it) is the simpler reading; a short arc's sagitta shows as a clearly worse plane.
+  const double plane = patch_rms(plane_patch, points), curved = patch_rms(s, points);
+  return plane < epsilon / 3 && plane <= 1.5 * curved;
 }
 
 // The detector's state across its passes: which points are taken, what was found.
@@ -207,6 +207,7 @@ struct Detection {
   Ransac::Parameters parameters;
   std::vector<char> taken;
   std::vector<SurfacePatch> patches;
+  const std::atomic<bool>* cancel = nullptr;
 
   // RANSAC on the free points in rounds: a shape refused leaves its points in the pool, and
   // another round may find what they really are (a plane RANSAC first took for a cylinder as
@@ -216,7 +217,10 @@ struct Detection {
     if (!(kinds.planes || kinds.spheres || kinds.cylinders || kinds.cones || kinds.tori)) return;
     for (int round = 0; round < 4; ++round) {
       std::size_t accepted = 0;
-      for (SurfacePatch& patch : detect_pass(points, proposal_normals, taken, kinds, params)) {
+      // A cancelled fit still returns a tree: the detection stops only once it has a patch.
+      const std::atomic<bool>* stop = patches.empty() ? nullptr : cancel;
+      if (stop && stop->load()) return;
+      for (SurfacePatch& patch : detect_pass(points, proposal_normals, taken, kinds, params, stop)) {
         if (flat_enough(patch, diagonal)) patch.kind = SurfaceKind::Plane;
         refit(patch, params);
         if (fits_a_plane(patch, points, normals, params.epsilon)) {
@@ -269,6 +273,30 @@ struct Detection {
 
 }  // namespace
 
+double part_diagonal(const std::vector<Vec3>& points) {
+  if (points.empty()) return 0;
+  Vec3 mean{0, 0, 0};
+  for (const Vec3& p : points) mean = add(mean, p);
+  mean = scale(mean, 1.0 / static_cast<double>(points.size()));
+  Mat3 c{};
+  for (const Vec3& p : points) {
+    const Vec3 d = sub(p, mean);
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) c[r][q] += d[r] * d[q];
+  }
+  Vec3 values;
+  Mat3 axes;
+  symmetric_eigen3(c, values, axes);
+  double sum = 0;
+  for (int a = 0; a < 3; ++a) {
+    const Vec3 e = column(axes, a);
+    double lo = 1e300, hi = -1e300;
+    for (const Vec3& p : points) lo = std::min(lo, dot(p, e)), hi = std::max(hi, dot(p, e));
+    sum += (hi - lo) * (hi - lo);
+  }
+  return std::sqrt(sum);
+}
+
 std::string_view to_string(SurfaceKind kind) {
   switch (kind) {
     case SurfaceKind::Plane: return "plane";
@@ -283,11 +311,11 @@ std::string_view to_string(SurfaceKind kind) {
 std::vector<SurfacePatch> detect_surfaces(const std::vector<Vec3>& points,
                                           const std::vector<Vec3>& normals,
                                           const SurfaceDetectOptions& options,
-                                          std::uint64_t seed) {
+                                          std::uint64_t seed, const std::atomic<bool>* cancel) {
   if (points.size() != normals.size())
     throw std::invalid_argument("detect_surfaces: one normal per point is needed");
   if (points.size() < 3) return {};
-  Detection d{points, normals, diagonal_of(points), {}, std::vector<char>(points.size(), 0), {}};
+  Detection d{points, normals, part_diagonal(points), {}, std::vector<char>(points.size(), 0), {}, cancel};
   d.parameters = ransac_parameters(options, d.diagonal, points.size());
   // CGAL draws from its default generator: seeding it makes the detection repeatable.
   CGAL::get_default_random() = CGAL::Random(static_cast<unsigned>(seed & 0x7fffffffu));

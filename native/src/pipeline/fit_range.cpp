@@ -62,7 +62,7 @@ MergedPoints merge(const std::vector<RangeScan>& scans) {
     throw InputError("too few points to fit anything (" + std::to_string(m.points.size()) +
                      ", at least " + std::to_string(kMinPoints) + " needed)");
   m.box = bounds_of(m.points);
-  m.diagonal = norm(sub(m.box.hi, m.box.lo));
+  m.diagonal = part_diagonal(m.points);
   if (!(m.diagonal > 0) || !std::isfinite(m.diagonal))
     throw InputError("the points span no volume");
   return m;
@@ -162,7 +162,8 @@ RangeFitResult fit_range(const std::vector<RangeScan>& scans, const RangeFitOpti
 
   RangeFitResult result;
   result.diagonal = merged.diagonal;
-  result.patches = detect_surfaces(merged.points, merged.normals, detector_for(options), options.seed);
+  result.patches =
+      detect_surfaces(merged.points, merged.normals, detector_for(options), options.seed, cancel);
   result.patch_of_point = patch_labels(result.patches, merged.points.size());
   const bool go_on = report(progress, 0.4, elapsed(), 0) && !(cancel && cancel->load());
 
@@ -196,7 +197,8 @@ RangeFitResult fit_range(const std::vector<RangeScan>& scans, const RangeFitOpti
   result.stats.primitives = result.tree.primitive_count();
   result.stats.iou = cameras ? iou_sum / cameras : 0;
   result.stats.seconds = elapsed();
-  result.stats.stop_reason = go_on ? "converged" : "cancelled";
+  const bool cancelled = !go_on || (cancel && cancel->load());
+  result.stats.stop_reason = cancelled ? "cancelled" : "converged";
   report(progress, 1.0, elapsed(), result.stats.primitives);
   return result;
 }

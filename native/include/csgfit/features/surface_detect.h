@@ -3,6 +3,7 @@
 // One detector for every input that has a surface: range images, point clouds, mesh samples.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -34,7 +35,12 @@ struct SurfacePatch {
   double rms = 0;           ///< root-mean-square distance of its points to the surface
 };
 
-/// Detector settings; zero means relative to the points' bounding-box diagonal.
+/// The diagonal of the points' bounding box in their principal axes: the part's size, the
+/// same however the part is turned (an axis-aligned box would not be), so that every tolerance
+/// relative to it, and with them the fit, does not depend on the scanner's frame.
+double part_diagonal(const std::vector<Vec3>& points);
+
+/// Detector settings; zero means relative to part_diagonal of the points.
 struct SurfaceDetectOptions {
   double epsilon = 0;         ///< max point-surface distance (default 0.4 % of the diagonal)
   double cluster_epsilon = 0; ///< max gap inside one patch (default 1.5 % of the diagonal)
@@ -47,10 +53,12 @@ struct SurfaceDetectOptions {
 /// Detects the patches of `points` (with one unit normal each, pointing out of the part).
 /// Deterministic for a given `seed`. Each point belongs to at most one patch; patches are in
 /// the order found (largest first, as RANSAC extracts them), parameters refined by least
-/// squares on the patch's points.
+/// squares on the patch's points. When `cancel` turns true the detection stops with the
+/// patches found so far, once it has one (about a second at most on a range image).
 std::vector<SurfacePatch> detect_surfaces(const std::vector<Vec3>& points,
                                           const std::vector<Vec3>& normals,
                                           const SurfaceDetectOptions& options,
-                                          std::uint64_t seed = 1);
+                                          std::uint64_t seed = 1,
+                                          const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace csgfit
