@@ -42,7 +42,7 @@ Ransac::Parameters ransac_parameters(const SurfaceDetectOptions& o, double diago
                                      std::size_t n) {
   Ransac::Parameters p;
   p.probability = o.probability;
-  p.epsilon = o.epsilon > 0 ? o.epsilon : 0.004 * diagonal;
+  p.epsilon = o.epsilon > 0 ? o.epsilon : 0.0025 * diagonal;
   p.cluster_epsilon = o.cluster_epsilon > 0 ? o.cluster_epsilon : 0.015 * diagonal;
   p.normal_threshold = o.normal_threshold;
   p.min_points = o.min_points > 0 ? static_cast<std::size_t>(o.min_points)
@@ -133,6 +133,12 @@ void keep_fitting_points(SurfacePatch& patch, const std::vector<Vec3>& points,
 }
 
 // A sphere or cylinder much wider than the part is a plane seen by RANSAC's general form.
+// A torus whose core circle is far smaller than its tube is a sphere (RANSAC's torus fits a
+// ball by a tube around a tiny circle): the sphere's own polish refits it.
+bool ball_like(const SurfacePatch& s) {
+  return s.kind == SurfaceKind::Torus && s.radius < 0.5 * s.minor_radius;
+}
+
 bool flat_enough(const SurfacePatch& s, double diagonal) {
   return (s.kind == SurfaceKind::Sphere || s.kind == SurfaceKind::Cylinder) && s.radius > 3 * diagonal;
 }
@@ -174,7 +180,7 @@ Vec3 normal_spread(const SurfacePatch& s, const std::vector<Vec3>& normals) {
   return values;
 }
 
-// Whether the patch is curved enough to be what RANSAC says. A sphere's normals fan out in
+// Whether the patch's normals turn as what RANSAC says it is. A sphere's normals fan out in
 // two directions (a band of a cylinder fits a sphere within epsilon too, but its normals lie
 // in one plane); a cylinder's or cone's turn by 10 degrees at least (a strip along a
 // concave edge, where an image's normals blend, fits a wide cylinder as well).
@@ -222,6 +228,7 @@ struct Detection {
       if (stop && stop->load()) return;
       for (SurfacePatch& patch : detect_pass(points, proposal_normals, taken, kinds, params, stop)) {
         if (flat_enough(patch, diagonal)) patch.kind = SurfaceKind::Plane;
+        if (ball_like(patch)) patch.kind = SurfaceKind::Sphere;
         refit(patch, params);
         if (fits_a_plane(patch, points, normals, params.epsilon)) {
           patch.kind = SurfaceKind::Plane;
@@ -248,13 +255,16 @@ struct Detection {
     polish_patch(patch, points, normals);
   }
 
-  // A sphere or cylinder patch found before a cone or torus that explains it is part of that
-  // surface (a torus's crown fits a sphere): it joins the general patch.
-  void absorb_into_general(std::size_t simple_end, const Ransac::Parameters& params) {
+  // A plane, sphere or cylinder patch that a cone or torus explains is part of that surface
+  // (a torus's crown fits a plane or a sphere within epsilon): it joins the general patch.
+  void absorb_into_general(const Ransac::Parameters& params) {
     std::vector<char> absorbed(patches.size(), 0);
-    for (std::size_t g = simple_end; g < patches.size(); ++g)
-      for (std::size_t k = 0; k < simple_end; ++k) {
-        if (absorbed[k] || patches[k].kind == SurfaceKind::Plane) continue;
+    for (std::size_t g = 0; g < patches.size(); ++g)
+      for (std::size_t k = 0; k < patches.size(); ++k) {
+        const SurfaceKind gk = patches[g].kind, kk = patches[k].kind;
+        if (absorbed[g] || absorbed[k] || !(gk == SurfaceKind::Torus || gk == SurfaceKind::Cone) ||
+            kk == SurfaceKind::Torus || kk == SurfaceKind::Cone)
+          continue;
         std::size_t fit = 0;
         for (int i : patches[k].points)
           fit += std::abs(surface_distance(patches[g], points[i])) <= params.epsilon &&
@@ -323,9 +333,11 @@ std::vector<SurfacePatch> detect_surfaces(const std::vector<Vec3>& points,
   // CGAL proposes a sphere only where the normals point away from its centre, so hollows are
   // looked for first with the normals turned round. Then planes, spheres and cylinders, and
   // cones and tori last on what they leave: a near-cylinder is also a cone with a far apex and
-  // a sphere a torus with no hole, and RANSAC, which ranks candidates by points explained,
-  // would otherwise take the general form for the simple one. The general kinds must also
-  // explain more (1 % of the points): on leftovers a cone or torus fits any curved strip.
+  // a sphere a torus with no hole (such a torus becomes a sphere), and RANSAC, which ranks
+  // candidates by points explained, would otherwise take the general form for the simple one.
+  // The general kinds must also explain more (1 % of the points): on leftovers a cone or torus
+  // fits any curved strip. Bands of a torus or cone taken for spheres or cylinders are given
+  // back to it at the end.
   SurfaceDetectOptions hollows = none_of_the_kinds(), simple = options, general = options;
   hollows.spheres = options.spheres;
   simple.cones = simple.tori = false;
@@ -336,9 +348,8 @@ std::vector<SurfacePatch> detect_surfaces(const std::vector<Vec3>& points,
   for (std::size_t i = 0; i < normals.size(); ++i) turned[i] = scale(normals[i], -1);
   d.run(hollows, d.parameters, turned, true);
   d.run(simple, d.parameters, normals);
-  const std::size_t simple_end = d.patches.size();
   d.run(general, general_parameters, normals);
-  d.absorb_into_general(simple_end, general_parameters);
+  d.absorb_into_general(general_parameters);
   return std::move(d.patches);
 }
 

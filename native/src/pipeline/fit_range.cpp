@@ -68,6 +68,20 @@ MergedPoints merge(const std::vector<RangeScan>& scans) {
   return m;
 }
 
+// The median distance from a point to its nearest neighbour, over an even sample of 400.
+double point_spacing(const std::vector<Vec3>& points) {
+  const std::size_t stride = std::max<std::size_t>(1, points.size() / 400);
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < points.size(); i += stride) {
+    double best = 1e300;
+    for (std::size_t j = 0; j < points.size(); ++j)
+      if (j != i) best = std::min(best, squared(sub(points[i], points[j])));
+    nearest.push_back(std::sqrt(best));
+  }
+  std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
+  return nearest[nearest.size() / 2];
+}
+
 SurfaceDetectOptions detector_for(const RangeFitOptions& o) {
   SurfaceDetectOptions d = o.detect;
   d.spheres = d.spheres && o.primitives.has(PrimitiveKind3D::Sphere);
@@ -167,7 +181,9 @@ RangeFitResult fit_range(const std::vector<RangeScan>& scans, const RangeFitOpti
   result.patch_of_point = patch_labels(result.patches, merged.points.size());
   const bool go_on = report(progress, 0.4, elapsed(), 0) && !(cancel && cancel->load());
 
-  const double contact = 0.02 * merged.diagonal;
+  // Two patches touch across the band that their edges lose (normals blend there and those
+  // points belong to neither): a few point spacings, and no less than 2 % of the part.
+  const double contact = std::max(0.02 * merged.diagonal, 6 * point_spacing(merged.points));
   RecognisedPrimitives rec =
       recognise_primitives(result.patches, merged.points, merged.normals, merged.diagonal, contact);
   rec.primitives = allowed(std::move(rec.primitives), options.primitives, rec.adjacent, rec.patch_points);

@@ -72,9 +72,18 @@ struct Recogniser {
     return 5 * within >= 4 * plane.points.size();
   }
 
+  // The mean position of a patch's points along its axis from its apex (a cone's points lie on
+  // the positive side once its axis points into it; CGAL may give either direction).
+  double mean_along(const SurfacePatch& s) const {
+    double sum = 0;
+    for (int i : s.points) sum += dot(sub(points[i], s.point), s.axis);
+    return s.points.empty() ? 0.0 : sum / static_cast<double>(s.points.size());
+  }
+
   // `group`: patches of one surface (the largest first), e.g. a hole seen at both its ends.
   void recognise_axial(const std::vector<int>& group) {
-    const SurfacePatch& s = patches[group.front()];
+    SurfacePatch s = patches[group.front()];
+    if (s.kind == SurfaceKind::Cone && mean_along(s) < 0) s.axis = scale(s.axis, -1);
     SignedPrimitive sp;
     sp.positive = s.convex;
     sp.patches = group;
@@ -96,12 +105,16 @@ struct Recogniser {
         idx.insert(idx.end(), patches[j].points.begin(), patches[j].points.end());
         t.add(at);
       }
+    if (s.kind == SurfaceKind::Cone) {
+      // Measured from the apex along the axis into the cone: a frustum between its points.
+      t.lo = std::max(0.0, t.lo), t.hi = std::max(t.hi, t.lo + 1e-3 * diagonal);
+    }
     const Vec3 centre = add(s.point, scale(s.axis, t.mid()));
     const Quaternion q = z_to(s.axis);
     if (s.kind == SurfaceKind::Cylinder) {
       sp.primitive = Primitive3D::cylinder(centre[0], centre[1], centre[2], s.radius, t.size(), q);
     } else if (s.kind == SurfaceKind::Cone) {
-      const double r1 = std::max(0.0, t.lo) * std::tan(s.angle), r2 = t.hi * std::tan(s.angle);
+      const double r1 = t.lo * std::tan(s.angle), r2 = t.hi * std::tan(s.angle);
       sp.primitive = Primitive3D::cone(centre[0], centre[1], centre[2], r1, r2, t.size(), q);
     } else {
       sp.primitive = Primitive3D::torus(s.point[0], s.point[1], s.point[2], s.radius,

@@ -44,7 +44,7 @@ double part_diagonal(const std::vector<Vec3>& points);
 struct SurfaceDetectOptions {
   double epsilon = 0;         ///< max point-surface distance (default 0.4 % of the diagonal)
   double cluster_epsilon = 0; ///< max gap inside one patch (default 1.5 % of the diagonal)
-  double normal_threshold = 0.9;  ///< min |cos| between a point's normal and the surface's
+  double normal_threshold = 0.95;  ///< min |cos| between a point's normal and the surface's
   int min_points = 0;         ///< smallest patch (default max(30, 0.2 % of the points))
   double probability = 0.01;  ///< RANSAC's chance of missing the largest shape
   bool planes = true, spheres = true, cylinders = true, cones = true, tori = true;
