@@ -1,6 +1,7 @@
 // csgfit range: range images or point clouds of one part to a CSG tree (seed 002).
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -92,10 +93,11 @@ void run_range(const RangeArgs& a) {
   out.scad.fn = a.fn;
   out.scad.source = fs::path(a.inputs.front()).filename().string();
   char summary[200];
-  std::snprintf(summary, sizeof summary,
-                "%zu primitives in %d subobjects from %zu surface patches; silhouette IoU %.4f",
-                fitted.stats.primitives, fitted.graph.subobjects, fitted.patches.size(),
-                fitted.stats.iou);
+  std::snprintf(summary, sizeof summary, "%zu primitives in %d subobjects from %zu surface patches",
+                fitted.stats.primitives, fitted.graph.subobjects, fitted.patches.size());
+  if (!fitted.views.empty())  // points without a camera have no silhouette to compare
+    std::snprintf(summary + std::strlen(summary), sizeof summary - std::strlen(summary),
+                  "; silhouette IoU %.4f", fitted.stats.iou);
   out.scad.summary = summary;
   out.document = [&] { return to_json_range(fitted, a.inputs); };
   write_output(a.output, out);
