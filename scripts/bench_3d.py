@@ -31,7 +31,7 @@ if SCRIPT_DIR not in sys.path:
     sys.path.insert(0, SCRIPT_DIR)
 import benchlib  # noqa: E402  (what bench_2d.py does the same way)
 import stl_voxelize  # noqa: E402  (scripts/stl_voxelize.py: imported, never copied)
-from benchlib import fmt, iou, numeric  # noqa: E402
+from benchlib import cell, fmt, iou, numeric  # noqa: E402
 
 PROG = "bench_3d"
 KIND_LABELS = {"cad": "cad (InverseCSG CAD meshes)",
@@ -251,13 +251,6 @@ CSV_FIELDS = ["name", "kind", "status", "iou", "solver_primitives", "wall_s", "s
 TARGETS = {"mean_iou": 0.97, "median_wall": 60.0}
 
 
-def _cell(r, key, digits=None):
-    v = r.get(key, "")
-    if v in ("", None):
-        return "-"
-    return ("%.*f" % (digits, float(v))) if digits is not None else str(v)
-
-
 def _failed(r):
     return r.get("status") != "ok"
 
@@ -269,12 +262,12 @@ def model_table(rows):
     for r in rows:
         icsg = "-" if r.get("icsg_primitives") in ("", None) else "%s / %s" % (
             r["icsg_primitives"], r["icsg_primitives_incl_bbox"])
-        iou_cell = _cell(r, "iou", 4) if not _failed(r) else "%s (%s)" % (
-            _cell(r, "iou", 4), r["status"])
+        iou_cell = cell(r, "iou", 4) if not _failed(r) else "%s (%s)" % (
+            cell(r, "iou", 4), r["status"])
         lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-            r["name"], r["kind"], iou_cell, _cell(r, "solver_primitives"),
-            _cell(r, "wall_s", 1), _cell(r, "stop_reason"), _cell(r, "icsg_iou", 4), icsg,
-            _cell(r, "gt_primitives")))
+            r["name"], r["kind"], iou_cell, cell(r, "solver_primitives"),
+            cell(r, "wall_s", 1), cell(r, "stop_reason"), cell(r, "icsg_iou", 4), icsg,
+            cell(r, "gt_primitives")))
     return "\n".join(lines)
 
 

@@ -34,7 +34,7 @@ if SCRIPT_DIR not in sys.path:
 import bench_3d  # noqa: E402  (its OpenSCAD render and cache)
 import benchlib  # noqa: E402
 import range_judge as rj  # noqa: E402
-from benchlib import fmt, numeric  # noqa: E402
+from benchlib import cell, fmt, numeric  # noqa: E402
 
 PROG = "bench_range"
 SENSORS = ("ortho", "ortho_noisy", "pinhole")
@@ -244,13 +244,6 @@ def object_b_lines(checks):
 # Tables and the report
 
 
-def _cell(r, key, digits=None):
-    v = r.get(key, "")
-    if v in ("", None):
-        return "-"
-    return ("%.*f" % (digits, float(v))) if digits is not None else str(v)
-
-
 def _failed(r):
     return r.get("status") != "ok"
 
@@ -274,10 +267,10 @@ def image_table(rows):
              "volume IoU | primitives (GT) | seconds |", "|---|---|---|--:|--:|--:|--:|--:|"]
     for r in rows:
         lines.append("| %s | %s | %s | %s | %s / %s | %s | %s (%s) | %s |" % (
-            r["model"], r["sensor"], r["status"], _cell(r, "silhouette_iou", 4),
-            _cell(r, "depth_err_pct", 3), _cell(r, "depth_err_median_pct", 3),
-            _cell(r, "volume_iou", 4), _cell(r, "primitives"), _cell(r, "gt_primitives"),
-            _cell(r, "wall_s", 1)))
+            r["model"], r["sensor"], r["status"], cell(r, "silhouette_iou", 4),
+            cell(r, "depth_err_pct", 3), cell(r, "depth_err_median_pct", 3),
+            cell(r, "volume_iou", 4), cell(r, "primitives"), cell(r, "gt_primitives"),
+            cell(r, "wall_s", 1)))
     return "\n".join(lines)
 
 
@@ -290,10 +283,10 @@ def model_table(rows):
         by = {r["sensor"]: r for r in rs}
         one = one_view(rs)
         lines.append("| %s | %s | %s | %s | %s | %s |" % (
-            model, _cell(rs[0], "gt_primitives"),
+            model, cell(rs[0], "gt_primitives"),
             fmt(numeric(one, "silhouette_iou"), statistics.mean, 4, "-"),
             fmt(numeric(one, "depth_err_pct"), statistics.mean, 3, "-"),
-            " | ".join(_cell(by.get(s, {}), "volume_iou", 4) for s in SENSORS + (TWO_VIEW,)),
+            " | ".join(cell(by.get(s, {}), "volume_iou", 4) for s in SENSORS + (TWO_VIEW,)),
             fmt(numeric(rs, "primitives"), statistics.mean, 1, "-")))
     return "\n".join(lines)
 

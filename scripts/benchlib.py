@@ -256,6 +256,14 @@ def numeric(rows, key):
     return out
 
 
+def cell(row, key, digits=None):
+    """A table cell: row[key] with `digits` decimals, or "-" when it is missing."""
+    v = row.get(key, "")
+    if v in ("", None):
+        return "-"
+    return ("%.*f" % (digits, float(v))) if digits is not None else str(v)
+
+
 def fmt(values, fn, digits, na="n/a"):
     """fn(values) with `digits` decimals, `na` when there are none."""
     return na if not values else ("%.*f" % (digits, fn(values)))
