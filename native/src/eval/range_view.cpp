@@ -11,15 +11,11 @@ using namespace linalg;
 
 namespace {
 
-void grow(Bounds3& b, const Bounds3& q) {
-  for (int i = 0; i < 3; ++i) b.lo[i] = std::min(b.lo[i], q.lo[i]), b.hi[i] = std::max(b.hi[i], q.hi[i]);
-}
-
 // What the tree can occupy: its positive leaves' bounds (a difference's cuts add nothing).
 void occupied(const Node3D& n, Bounds3& b, bool& any) {
   if (n.is_leaf()) {
     if (!any) b = n.primitive.bounds(), any = true;
-    else grow(b, n.primitive.bounds());
+    else b = merged(b, n.primitive.bounds());
     return;
   }
   if (n.kind == NodeKind::Difference) {
@@ -27,21 +23,6 @@ void occupied(const Node3D& n, Bounds3& b, bool& any) {
     return;
   }
   for (const Node3D& c : n.children) occupied(c, b, any);
-}
-
-// The ray's parameter interval inside the box (slab test); false when it misses.
-bool clip(const Vec3& o, const Vec3& d, const Bounds3& b, double& t0, double& t1) {
-  t0 = 0, t1 = 1e300;
-  for (int i = 0; i < 3; ++i) {
-    if (std::abs(d[i]) < 1e-300) {
-      if (o[i] < b.lo[i] || o[i] > b.hi[i]) return false;
-      continue;
-    }
-    double a = (b.lo[i] - o[i]) / d[i], c = (b.hi[i] - o[i]) / d[i];
-    if (a > c) std::swap(a, c);
-    t0 = std::max(t0, a), t1 = std::min(t1, c);
-  }
-  return t0 <= t1;
 }
 
 double sdf(const Node3D& tree, const Vec3& p) { return signed_distance(tree, p[0], p[1], p[2]); }
@@ -61,7 +42,7 @@ std::vector<double> tree_depth_map(const Node3D& tree, const RangeCamera& camera
     for (int u = 0; u < camera.width; ++u) {
       const Vec3 o = camera.ray_origin(u, v), d = camera.ray_direction(u, v);
       double t, t_end;
-      if (!clip(o, d, box, t, t_end)) continue;
+      if (!clip_ray(box, o, d, t, t_end)) continue;
       for (int step = 0; step < 512 && t <= t_end; ++step) {
         const double s = sdf(tree, add(o, scale(d, t)));
         if (s < tolerance) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "csgfit/model/primitive3d.h"
 #include "model/linalg.h"
 
 namespace csgfit {
@@ -10,27 +11,6 @@ namespace csgfit {
 using namespace linalg;
 
 namespace {
-
-struct Box {
-  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  void add(const Vec3& p) {
-    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
-  }
-  // The ray's parameter interval inside the box; false when it misses.
-  bool clip(const Vec3& o, const Vec3& d, double& t0, double& t1) const {
-    t0 = 0, t1 = 1e300;
-    for (int i = 0; i < 3; ++i) {
-      if (std::abs(d[i]) < 1e-300) {
-        if (o[i] < lo[i] || o[i] > hi[i]) return false;
-        continue;
-      }
-      double a = (lo[i] - o[i]) / d[i], b = (hi[i] - o[i]) / d[i];
-      if (a > b) std::swap(a, b);
-      t0 = std::max(t0, a), t1 = std::min(t1, b);
-    }
-    return t0 < t1;
-  }
-};
 
 // Offsets in front of a return, in tolerances: close ones pin the surface, far ones keep
 // hidden extents from reaching into what the sensor saw through.
@@ -52,7 +32,7 @@ void in_front_of_returns(const RangeScan& scan, std::size_t stride, double tol, 
 }
 
 // Rays that returned nothing but cross the part's box: empty all along.
-void through_misses(const RangeScan& scan, const Box& box, std::size_t budget, RangeEvidence& e) {
+void through_misses(const RangeScan& scan, const Bounds3& box, std::size_t budget, RangeEvidence& e) {
   if (!scan.camera || !scan.organised()) return;
   std::vector<char> returned(static_cast<std::size_t>(scan.width) * scan.height, 0);
   for (int px : scan.pixel) returned[px] = 1;
@@ -61,7 +41,7 @@ void through_misses(const RangeScan& scan, const Box& box, std::size_t budget, R
     if (returned[px]) continue;
     const double u = static_cast<double>(px % scan.width), v = static_cast<double>(px / scan.width);
     double t0, t1;
-    if (box.clip(scan.camera->ray_origin(u, v), scan.camera->ray_direction(u, v), t0, t1))
+    if (clip_ray(box, scan.camera->ray_origin(u, v), scan.camera->ray_direction(u, v), t0, t1))
       misses.push_back(static_cast<int>(px));
   }
   constexpr int kAlongRay = 6;
@@ -71,7 +51,7 @@ void through_misses(const RangeScan& scan, const Box& box, std::size_t budget, R
     const double v = static_cast<double>(misses[m] / scan.width);
     const Vec3 o = scan.camera->ray_origin(u, v), d = scan.camera->ray_direction(u, v);
     double t0, t1;
-    box.clip(o, d, t0, t1);
+    clip_ray(box, o, d, t0, t1);
     for (int k = 0; k < kAlongRay; ++k)
       e.empty.push_back(add(o, scale(d, t0 + (t1 - t0) * (k + 0.5) / kAlongRay)));
   }
@@ -84,10 +64,10 @@ RangeEvidence gather_evidence(const std::vector<RangeScan>& scans, double tolera
   RangeEvidence e;
   e.tolerance = tolerance;
   std::size_t total = 0;
-  Box box;
+  Bounds3 box{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
   for (const RangeScan& s : scans) {
     total += s.points.size();
-    for (const Vec3& p : s.points) box.add(p);
+    if (!s.points.empty()) box = merged(box, bounds_of(s.points));
   }
   for (int i = 0; i < 3; ++i) box.lo[i] -= 2 * tolerance, box.hi[i] += 2 * tolerance;
   const std::size_t stride = std::max<std::size_t>(1, total / std::max<std::size_t>(1, max_surface));

@@ -378,4 +378,30 @@ bool Primitive3D::operator==(const Primitive3D& o) const {
          dims == o.dims && apex == o.apex;
 }
 
+Bounds3 merged(const Bounds3& a, const Bounds3& b) {
+  Bounds3 m;
+  for (int i = 0; i < 3; ++i) m.lo[i] = std::min(a.lo[i], b.lo[i]), m.hi[i] = std::max(a.hi[i], b.hi[i]);
+  return m;
+}
+
+Bounds3 bounds_of(const std::vector<Vec3>& points) {
+  Bounds3 b{points.front(), points.front()};
+  for (const Vec3& p : points) b = merged(b, Bounds3{p, p});
+  return b;
+}
+
+bool clip_ray(const Bounds3& box, const Vec3& o, const Vec3& d, double& t0, double& t1) {
+  t0 = 0, t1 = std::numeric_limits<double>::max();
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-300) {
+      if (o[i] < box.lo[i] || o[i] > box.hi[i]) return false;
+      continue;
+    }
+    double a = (box.lo[i] - o[i]) / d[i], b = (box.hi[i] - o[i]) / d[i];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a), t1 = std::min(t1, b);
+  }
+  return t0 <= t1;
+}
+
 }  // namespace csgfit

@@ -24,23 +24,19 @@ namespace {
 
 struct MergedPoints {
   std::vector<Vec3> points, normals;
-  Bounds3 box;
   double diagonal = 0;
 };
-
-Bounds3 bounds_of(const std::vector<Vec3>& points) {
-  Bounds3 b{points.front(), points.front()};
-  for (const Vec3& p : points)
-    for (int i = 0; i < 3; ++i) b.lo[i] = std::min(b.lo[i], p[i]), b.hi[i] = std::max(b.hi[i], p[i]);
-  return b;
-}
 
 // Two views of one part overlap once their cameras put them in one frame; boxes that do not
 // meet are two parts (or a wrong camera_to_world).
 void check_overlap(const std::vector<RangeScan>& scans) {
+  std::vector<Bounds3> boxes;
+  for (const RangeScan& s : scans) boxes.push_back(s.points.empty() ? Bounds3{} : bounds_of(s.points));
   for (std::size_t a = 0; a < scans.size(); ++a)
     for (std::size_t b = a + 1; b < scans.size(); ++b) {
-      const Bounds3 p = bounds_of(scans[a].points), q = bounds_of(scans[b].points);
+      if (scans[a].points.empty() || scans[b].points.empty()) continue;  // merge() refuses them
+      const Bounds3& p = boxes[a];
+      const Bounds3& q = boxes[b];
       for (int i = 0; i < 3; ++i)
         if (p.hi[i] < q.lo[i] || q.hi[i] < p.lo[i])
           throw InputError("the views '" + scans[a].source + "' and '" + scans[b].source +
@@ -61,7 +57,6 @@ MergedPoints merge(const std::vector<RangeScan>& scans) {
   if (m.points.size() < kMinPoints)
     throw InputError("too few points to fit anything (" + std::to_string(m.points.size()) +
                      ", at least " + std::to_string(kMinPoints) + " needed)");
-  m.box = bounds_of(m.points);
   m.diagonal = part_diagonal(m.points);
   if (!(m.diagonal > 0) || !std::isfinite(m.diagonal))
     throw InputError("the points span no volume");

@@ -100,10 +100,7 @@ void reach_through(Primitive3D& cut, unsigned open, const Bounds3& target, doubl
 
 Bounds3 bounds_of(const std::vector<const Primitive3D*>& prims) {
   Bounds3 b = prims.front()->bounds();
-  for (const Primitive3D* p : prims) {
-    const Bounds3 q = p->bounds();
-    for (int i = 0; i < 3; ++i) b.lo[i] = std::min(b.lo[i], q.lo[i]), b.hi[i] = std::max(b.hi[i], q.hi[i]);
-  }
+  for (const Primitive3D* p : prims) b = merged(b, p->bounds());
   return b;
 }
 

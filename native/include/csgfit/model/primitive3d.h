@@ -5,6 +5,7 @@
 #include <array>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "csgfit/model/quaternion.h"
 #include "csgfit/model/voxel_grid.h"
@@ -25,6 +26,14 @@ PrimitiveKind3D primitive_kind3d_from_string(std::string_view name);
 struct Bounds3 {
   Vec3 lo{0, 0, 0}, hi{0, 0, 0};
 };
+
+/// The smallest box holding both boxes.
+Bounds3 merged(const Bounds3& a, const Bounds3& b);
+/// The smallest box holding the points (which must not be empty).
+Bounds3 bounds_of(const std::vector<Vec3>& points);
+/// The part [t0, t1] of the ray o + t d, t >= 0, inside the box (slab test); false when the
+/// ray misses it.
+bool clip_ray(const Bounds3& box, const Vec3& o, const Vec3& d, double& t0, double& t1);
 
 /// One primitive in model coordinates (the mesh's own units, z up): a centre, a rotation and
 /// dimensions in its local frame, where the shape is centred on the origin:
