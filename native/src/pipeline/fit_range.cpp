@@ -180,7 +180,7 @@ RangeFitResult fit_range(const std::vector<RangeScan>& scans, const RangeFitOpti
   // points belong to neither): a few point spacings, and no less than 2 % of the part.
   const double contact = std::max(0.02 * merged.diagonal, 6 * point_spacing(merged.points));
   RecognisedPrimitives rec =
-      recognise_primitives(result.patches, merged.points, merged.normals, merged.diagonal, contact);
+      recognise_primitives(result.patches, merged.points, merged.diagonal, contact);
   rec.primitives = allowed(std::move(rec.primitives), options.primitives, rec.adjacent, rec.patch_points);
   result.graph = build_precedence_graph(std::move(rec.primitives), rec.adjacent, rec.patch_points);
   if (!result.graph.nodes.empty() && go_on) {

@@ -47,7 +47,6 @@ Quaternion frame_of(const Vec3& e1, const Vec3& e2, const Vec3& e3) {
 struct Recogniser {
   const std::vector<SurfacePatch>& patches;
   const std::vector<Vec3>& points;
-  const std::vector<Vec3>& normals;
   double diagonal, contact;
   std::vector<std::vector<int>> patch_adjacent;
   std::vector<int> primitive_of_patch;
@@ -331,10 +330,9 @@ std::vector<std::vector<int>> coincident_groups(const std::vector<SurfacePatch>&
 }  // namespace
 
 RecognisedPrimitives recognise_primitives(const std::vector<SurfacePatch>& patches,
-                                          const std::vector<Vec3>& points,
-                                          const std::vector<Vec3>& normals, double diagonal,
+                                          const std::vector<Vec3>& points, double diagonal,
                                           double contact) {
-  Recogniser r{patches, points, normals, diagonal, contact, patch_adjacency(patches, points, contact),
+  Recogniser r{patches, points, diagonal, contact, patch_adjacency(patches, points, contact),
                std::vector<int>(patches.size(), -1), {}};
   for (const std::vector<int>& group : coincident_groups(patches, diagonal)) {
     const SurfacePatch& s = patches[group.front()];

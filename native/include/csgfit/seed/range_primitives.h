@@ -22,12 +22,11 @@ struct RecognisedPrimitives {
 std::vector<std::vector<int>> patch_adjacency(const std::vector<SurfacePatch>& patches,
                                               const std::vector<Vec3>& points, double radius);
 
-/// Recognises the primitives of `patches` (over `points`, with outward unit `normals`).
+/// Recognises the primitives of `patches` (over `points`; each patch's sign is its `convex`).
 /// `diagonal` is the part's size, for the tolerances; `contact` the distance at which two
 /// patches touch (a few point spacings).
 RecognisedPrimitives recognise_primitives(const std::vector<SurfacePatch>& patches,
-                                          const std::vector<Vec3>& points,
-                                          const std::vector<Vec3>& normals, double diagonal,
+                                          const std::vector<Vec3>& points, double diagonal,
                                           double contact);
 
 }  // namespace csgfit
