@@ -3,10 +3,24 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <cstring>
 
 namespace csgfit::geometry {
 
 using Point = std::array<double, 3>;
+
+/// A hash of a position's exact bits (pass -0 as +0 first): welding and canonical ids use it.
+inline std::uint64_t position_hash(const Point& p) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (double c : p) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &c, sizeof bits);
+    h = (h ^ bits) * 1099511628211ULL;
+    h ^= h >> 29;
+  }
+  return h;
+}
 
 inline Point minus(const Point& b, const Point& a) {
   return {b[0] - a[0], b[1] - a[1], b[2] - a[2]};

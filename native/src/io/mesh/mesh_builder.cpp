@@ -4,6 +4,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <utility>
 
@@ -31,13 +32,27 @@ int MeshBuilder::add_welded_vertex(double x, double y, double z, const char* wha
     fail(quoted(path_) + " " + what + " " + std::to_string(number) +
          ": a vertex has a non-finite coordinate (NaN or infinity)");
   }
-  Key key{x + 0.0, y + 0.0, z + 0.0};  // -0 and +0 are one position
-  const auto it = weld_.find(key);
-  if (it != weld_.end()) return it->second;
-  add_vertex(key.x, key.y, key.z, what, number);
-  const int index = static_cast<int>(mesh_.vertices.size() - 1);
-  weld_.emplace(key, index);
-  return index;
+  const geometry::Point p{x + 0.0, y + 0.0, z + 0.0};  // -0 and +0 are one position
+  if (2 * (mesh_.vertices.size() + 1) > weld_.size()) grow_weld_table();
+  const std::size_t mask = weld_.size() - 1;
+  std::size_t slot = geometry::position_hash(p) & mask;
+  for (; weld_[slot] >= 0; slot = (slot + 1) & mask)
+    if (mesh_.vertices[weld_[slot]] == p) return weld_[slot];
+  add_vertex(p[0], p[1], p[2], what, number);
+  weld_[slot] = static_cast<int>(mesh_.vertices.size() - 1);
+  return weld_[slot];
+}
+
+void MeshBuilder::grow_weld_table() {
+  std::vector<int> old = std::move(weld_);
+  weld_.assign(std::max<std::size_t>(1024, old.size() * 2), -1);
+  const std::size_t mask = weld_.size() - 1;
+  for (int v : old) {
+    if (v < 0) continue;
+    std::size_t slot = geometry::position_hash(mesh_.vertices[v]) & mask;
+    while (weld_[slot] >= 0) slot = (slot + 1) & mask;
+    weld_[slot] = v;
+  }
 }
 
 void MeshBuilder::add_face(const long long* indices, std::size_t n) {
@@ -90,6 +105,7 @@ TriangleMesh MeshBuilder::finish(const std::string& format, MeshReadInfo* info) 
          (dropped ? " (all " + std::to_string(dropped) + " are degenerate)" : std::string()));
   }
   mesh_.triangles.shrink_to_fit();
+  check_extent();
   if (info) {
     info->format = format;
     info->faces_read = faces_;
@@ -98,23 +114,38 @@ TriangleMesh MeshBuilder::finish(const std::string& format, MeshReadInfo* info) 
   return std::move(mesh_);
 }
 
-std::size_t MeshBuilder::KeyHash::operator()(const Key& k) const {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (double v : {k.x, k.y, k.z}) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    h = (h ^ bits) * 1099511628211ULL;
-    h ^= h >> 29;
-  }
-  return static_cast<std::size_t>(h);
+void MeshBuilder::check_extent() const {
+  double lo[3], hi[3];
+  for (int i = 0; i < 3; ++i) lo[i] = hi[i] = mesh_.vertices[mesh_.triangles[0][0]][i];
+  for (const auto& tri : mesh_.triangles)
+    for (int v : tri)
+      for (int i = 0; i < 3; ++i) {
+        lo[i] = std::min(lo[i], mesh_.vertices[v][i]);
+        hi[i] = std::max(hi[i], mesh_.vertices[v][i]);
+      }
+  double extent = 0;
+  for (int i = 0; i < 3; ++i) extent = std::max(extent, hi[i] - lo[i]);
+  if (extent >= kMinExtent && extent <= kMaxExtent) return;
+  char size[32];
+  std::snprintf(size, sizeof size, "%.3g", extent);
+  fail(quoted(path_) + " is " + size + " units across: csgfit fits parts from 1e-09 to 1e+12 "
+       "units across (scale the mesh)");
 }
 
 // Zero area up to rounding: repeated vertices or (nearly exactly) collinear ones.
 bool MeshBuilder::degenerate(const std::array<int, 3>& t) const {
   if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
   const auto& a = mesh_.vertices[t[0]];
-  const geometry::Point u = geometry::minus(mesh_.vertices[t[1]], a);
-  const geometry::Point v = geometry::minus(mesh_.vertices[t[2]], a);
+  geometry::Point u = geometry::minus(mesh_.vertices[t[1]], a);
+  geometry::Point v = geometry::minus(mesh_.vertices[t[2]], a);
+  // Scaled to unit size first: at 1e307 the products overflow, at 1e-300 they underflow.
+  double largest = 0;
+  for (int i = 0; i < 3; ++i) largest = std::max({largest, std::fabs(u[i]), std::fabs(v[i])});
+  if (!(largest > 0) || !std::isfinite(largest)) return true;
+  for (int i = 0; i < 3; ++i) {
+    u[i] /= largest;
+    v[i] /= largest;
+  }
   const geometry::Point n = geometry::cross(u, v);
   const double e2 = std::max(geometry::dot(u, u), geometry::dot(v, v));
   return geometry::dot(n, n) <= 1e-24 * e2 * e2;
