@@ -1,8 +1,6 @@
 #include "step_writer.h"
 
-#include <fcntl.h>
 #include <limits>
-#include <unistd.h>
 
 #include <BRepAlgoAPI_BooleanOperation.hxx>
 #include <BRepBndLib.hxx>
@@ -46,9 +44,7 @@
 #include <gp_GTrsf.hxx>
 #include <gp_Trsf.hxx>
 #include <algorithm>
-#include <atomic>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -58,6 +54,7 @@
 #include <vector>
 
 #include "csgfit/error.h"
+#include "csgfit/io/files.h"
 #include "step_shape.h"
 
 namespace csgfit {
@@ -431,24 +428,9 @@ double shape_volume(const TopoDS_Shape& shape) {
 
 void write_step_shape(const TopoDS_Shape& shape, const std::string& path,
                       const std::string& name) {
-  const fs::path target(path);
-  const fs::path dir = fs::absolute(target).parent_path();
   std::error_code ec;
-  if (fs::is_directory(target, ec)) throw InputError("cannot write '" + path + "': it is a folder");
-  // OCCT writes by file name, so the temporary file is made first, as write_file_atomic makes
-  // its own: O_EXCL under a fresh name, mode 0666 less the umask (mkstemp would give 0600).
-  static std::atomic<unsigned> counter{0};
-  std::string tmp;
-  int fd = -1;
-  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-    tmp = (dir / ("." + target.filename().string() + ".tmp-" + std::to_string(getpid()) + "-" +
-                  std::to_string(counter.fetch_add(1))))
-              .string();
-    fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0 && errno != EEXIST) break;
-  }
-  if (fd < 0) throw InputError("cannot write '" + path + "': " + std::strerror(errno));
-  ::close(fd);
+  if (fs::is_directory(fs::path(path), ec)) throw InputError("cannot write '" + path + "': it is a folder");
+  const std::string tmp = make_temp_beside(path);  // OCCT writes by file name
   try {
     occt("writing STEP", [&] {
       // The writer's settings are process-wide statics; one write at a time.
@@ -488,8 +470,7 @@ void write_step_shape(const TopoDS_Shape& shape, const std::string& path,
       throw InputError("cannot write '" + path + "': the STEP file does not read back as the "
                        "solid written (an OpenCASCADE limitation; write .scad or .json instead)");
     });
-    if (std::rename(tmp.c_str(), path.c_str()) != 0)
-      throw InputError("cannot write '" + path + "': " + std::strerror(errno));
+    publish_file(tmp, path);
   } catch (...) {
     std::remove(tmp.c_str());
     throw;

@@ -27,16 +27,16 @@ def _fail(message, status):
     os._exit(status)
 
 
-def write_fcstd(json_path, fcstd_path, thickness=None, label=None):
-    """Builds the tree of `json_path` into a new document and saves it atomically as
-    `fcstd_path`. Returns the BuildResult's root volume. Raises builder.BuildError on bad
+def write_fcstd(json_path, fcstd_path, thickness=None, label=None, doc_name=None):
+    """Builds the tree of `json_path` into a new document (named `doc_name`, else after
+    `fcstd_path`) and saves it atomically as `fcstd_path`. Returns the BuildResult's root volume. Raises builder.BuildError on bad
     input, RuntimeError when the tree does not recompute to a valid solid."""
     import FreeCAD as App
 
     from csgfit_freecad import builder
 
     result = builder.load_result(json_path)
-    name = os.path.splitext(os.path.basename(fcstd_path))[0] or "csgfit"
+    name = doc_name or os.path.splitext(os.path.basename(fcstd_path))[0] or "csgfit"
     doc_name = "".join(c if c.isalnum() else "_" for c in name)
     doc = App.newDocument(doc_name)
     try:
@@ -48,7 +48,8 @@ def write_fcstd(json_path, fcstd_path, thickness=None, label=None):
         # A fresh folder rather than a temporary file: FreeCAD keeps a backup copy
         # (".FCStd1") when it saves over an existing file.
         tmp_dir = tempfile.mkdtemp(prefix=".csgfit-", dir=out_dir)
-        tmp = os.path.join(tmp_dir, os.path.basename(fcstd_path))
+        # Saved under the document's own name: FreeCAD labels the document after the file.
+        tmp = os.path.join(tmp_dir, name + os.path.splitext(fcstd_path)[1])
         try:
             doc.saveAs(tmp)
             os.replace(tmp, fcstd_path)
@@ -71,6 +72,8 @@ def main():
         except ValueError:
             _fail(f"CSGFIT_THICKNESS is not a number: {thickness}", 2)
     label = os.environ.get("CSGFIT_LABEL") or None
+    # The CLI saves to a temporary file first; the document keeps the name of the real one.
+    doc_name = os.environ.get("CSGFIT_DOC_NAME") or None
 
     pkg_parent = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
     if pkg_parent not in sys.path:
@@ -84,7 +87,7 @@ def main():
     from csgfit_freecad import builder
 
     try:
-        write_fcstd(json_path, fcstd_path, thickness=thickness, label=label)
+        write_fcstd(json_path, fcstd_path, thickness=thickness, label=label, doc_name=doc_name)
     except builder.BuildError as e:
         _fail(str(e).splitlines()[0], 2)
     except Exception as e:  # FreeCAD raises its own exception types

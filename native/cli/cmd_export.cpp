@@ -1,11 +1,8 @@
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include "commands.h"
 #include "csgfit/error.h"
 #include "csgfit/io/json.h"
+#include "option_checks.h"
 #include "output.h"
 
 namespace csgfit::cli {
@@ -21,12 +18,13 @@ struct ExportArgs {
 void add_export_options(CLI::App& exporter, ExportArgs& a) {
   exporter.add_option("input", a.input, "csgfit .json result")->required();
   exporter.add_option("-o,--output", a.output, "output: .scad, .json, .FCStd or .step")->required();
-  a.fn_option = exporter.add_option("--fn", a.fn, "OpenSCAD $fn")->check(CLI::Range(3, 1000));
+  a.fn_option = exporter.add_option("--fn", a.fn, "OpenSCAD $fn")->check(obeys(option_rules::fn));
+  add_memory_option(exporter);
 }
 
 void run_export(const ExportArgs& a) {
   check_output(a.output);
-  const std::string text = read_text_file(a.input);
+  const std::string text = read_json_file(a.input);
   if (is_json3d(text)) {
     std::string source;
     const Node3D tree = from_json3d(text, &source);
@@ -42,14 +40,6 @@ void run_export(const ExportArgs& a) {
 }
 
 }  // namespace
-
-std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open '" + path + "': " + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 Command add_export_command(CLI::App& app) {
   return make_command(app, "export",

@@ -5,6 +5,7 @@
 #include "csgfit/io/image.h"
 #include "csgfit/pipeline/fit_bitmap.h"
 #include "fit_command.h"
+#include "option_checks.h"
 #include "output.h"
 #include "progress_bar.h"
 
@@ -37,18 +38,18 @@ void add_image_options(CLI::App& image, ImageArgs& a) {
   image
       .add_option("--alternatives", a.alternatives,
                   "also write up to N structurally different trees")
-      ->check(CLI::Range(0, 20));
+      ->check(obeys(option_rules::alternatives));
   image.add_option("--threshold", a.threshold, "grey level 0-255 (default: Otsu)")
-      ->check(CLI::Range(0, 255));
+      ->check(obeys(option_rules::threshold));
   image.add_flag("--invert", a.invert, "light pixels are the shape");
   image.add_option("--pixel-size", a.pixel_size, "millimetres per pixel")
-      ->check(CLI::PositiveNumber);
+      ->check(obeys(option_rules::scale));
   image.add_option("--thickness", a.thickness, "extrude the 2D result to this height (mm)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(obeys(option_rules::thickness));
   image.add_option("--max-size", a.max_size, "downsample images larger than N pixels on a side")
-      ->check(CLI::PositiveNumber);
+      ->check(obeys(option_rules::image_side));
   image.add_option("--max-pixels", a.max_pixels, "refuse images with more pixels than this")
-      ->check(CLI::PositiveNumber);
+      ->check(obeys(option_rules::pixel_count));
   image.add_option("--preview", a.preview,
                    "PNG of input and result overlaid (excess red, uncovered blue)");
   image.add_option("--raster", a.raster, "PNG of the solver's own raster of the result");
@@ -73,8 +74,8 @@ void run_image(const ImageArgs& a) {
   frame.thickness = a.thickness;
   frame.source = fs::path(a.fit.input).filename().string();
   check_output(a.fit.output, &frame);
-  if (!a.preview.empty()) check_writable(a.preview);
-  if (!a.raster.empty()) check_writable(a.raster);
+  if (!a.preview.empty()) check_png_output(a.preview, "--preview");
+  if (!a.raster.empty()) check_png_output(a.raster, "--raster");
   FitOptions options = fit_options<FitOptions>(a.fit);
   options.alternatives = a.alternatives;
   options.search = SearchParams::for_quality(a.preset == "paper" ? a.preset : a.quality);

@@ -9,6 +9,7 @@
 #include "csgfit/io/input3d.h"
 #include "csgfit/io/json.h"
 #include "fit_command.h"
+#include "option_checks.h"
 #include "output.h"
 #include "progress_bar.h"
 
@@ -38,17 +39,18 @@ void add_mesh_options(CLI::App& mesh, MeshArgs& a) {
                   "voxels along the longest side of a mesh's search grid (0 = auto: a coarse grid "
                   "of about half a million voxels for the search, then a polish on a fine grid of "
                   "about 11 voxels across the part's mean wall thickness)")
-      ->check(CLI::Range(0, 512));
+      ->check(obeys(option_rules::resolution));
   mesh.add_flag("--no-align", a.no_align,
                 "fit along the mesh's own axes (default: along its dominant planar faces)");
 }
 
+// `problems` gets the mesh's defects, for a warning once the fit succeeded; a fit that fails
+// names them in its one-line error instead.
 MeshFitResult read_and_fit(const MeshArgs& a, FitOptions3D options,
-                           const ProgressCallback& progress) {
+                           const ProgressCallback& progress, std::string* problems) {
   const auto read_start = std::chrono::steady_clock::now();
   const Input3D input = read_input3d(a.fit.input);
-  const std::string problems = input.warning();
-  if (!problems.empty() && !a.fit.quiet) std::cerr << "csgfit: warning: " << problems << "\n";
+  *problems = input.warning();
   if (input.is_mesh()) {
     // --time is the whole run: reading the mesh and writing the result come out of it.
     const double spent =
@@ -61,7 +63,9 @@ MeshFitResult read_and_fit(const MeshArgs& a, FitOptions3D options,
   try {
     return fit_input3d(input, options, mesh_options, progress);
   } catch (const InputError& e) {
-    throw InputError(std::string(e.what()) + ": '" + a.fit.input + "'");
+    const std::string defects = problems->substr(0, problems->find(": inside/outside"));
+    throw InputError(std::string(e.what()) + ": '" + a.fit.input + "'" +
+                     (defects.empty() ? "" : ". " + defects));
   }
 }
 
@@ -69,8 +73,10 @@ void run_mesh(const MeshArgs& a) {
   check_output(a.fit.output);
   const FitOptions3D options = fit_options<FitOptions3D>(a.fit);
   ProgressBar bar(!a.fit.quiet);
-  const MeshFitResult fitted = read_and_fit(a, options, bar.callback());
+  std::string problems;
+  const MeshFitResult fitted = read_and_fit(a, options, bar.callback(), &problems);
   bar.finish();
+  if (!problems.empty() && !a.fit.quiet) std::cerr << "csgfit: warning: " << problems << "\n";
 
   const FitResult3D& result = fitted.fit;
   const VoxelGrid& grid = fitted.grid;  // the grid the summary's IoU is measured on

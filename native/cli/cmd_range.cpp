@@ -12,6 +12,7 @@
 #include "csgfit/io/range_preview.h"
 #include "csgfit/io/range_read.h"
 #include "csgfit/pipeline/fit_range.h"
+#include "option_checks.h"
 #include "output.h"
 #include "progress_bar.h"
 
@@ -40,27 +41,36 @@ void add_range_options(CLI::App& range, RangeArgs& a) {
                    "of one part are merged")
       ->required();
   range.add_option("-o,--output", a.output, "output: .scad, .json, .step or .FCStd")->required();
-  range.add_option("--time", a.time_limit, "time budget in seconds")->check(CLI::PositiveNumber);
-  range.add_option("--seed", a.seed, "random seed (RANSAC and refinement): same seed, same tree");
+  range.add_option("--time", a.time_limit, "time budget in seconds")
+      ->check(obeys(option_rules::time));
+  range.add_option("--seed", a.seed, "random seed (RANSAC and refinement): same seed, same tree")
+      ->check(seed_check());
   range.add_option("--threads", a.threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(obeys(option_rules::threads));
   range.add_option("--primitives", a.primitives,
                    "comma-separated: box,sphere,cylinder,cone,torus (or all)");
-  range.add_option("--fn", a.fn, "OpenSCAD $fn for round primitives")->check(CLI::Range(3, 1000));
+  range.add_option("--fn", a.fn, "OpenSCAD $fn for round primitives")->check(obeys(option_rules::fn));
   range.add_flag("-q,--quiet", a.quiet, "no progress bar or summary");
   range.add_flag("--report", a.report,
                  "print the precedence graph as seed 002's Fig. 10 lists it (subobjects, orders, "
                  "primitives with axes, sizes and sign)");
   range.add_option("--preview", a.preview,
                    "PNG: the first view segmented by patch beside the result's depth error");
-  range.add_option("--fx", a.fx, "pinhole focal length in pixels (x) when there is no sidecar");
-  range.add_option("--fy", a.fy, "pinhole focal length in pixels (y)");
-  range.add_option("--cx", a.cx, "principal point, pixels (default: the image centre)");
-  range.add_option("--cy", a.cy, "principal point, pixels");
-  range.add_option("--pixel-size", a.pixel_size, "orthographic pixel size in model units");
-  range.add_option("--depth-unit", a.depth_unit, "model units per 16-bit PNG step (default 1)");
+  range.add_option("--fx", a.fx, "pinhole focal length in pixels (x) when there is no sidecar")
+      ->check(obeys(option_rules::focal_length));
+  range.add_option("--fy", a.fy, "pinhole focal length in pixels (y)")
+      ->check(obeys(option_rules::focal_length));
+  range.add_option("--cx", a.cx, "principal point, pixels (default: the image centre)")
+      ->check(obeys(option_rules::principal_point));
+  range.add_option("--cy", a.cy, "principal point, pixels")
+      ->check(obeys(option_rules::principal_point));
+  range.add_option("--pixel-size", a.pixel_size, "orthographic pixel size in model units")
+      ->check(obeys(option_rules::scale));
+  range.add_option("--depth-unit", a.depth_unit, "model units per 16-bit PNG step (default 1)")
+      ->check(obeys(option_rules::scale));
   range.add_option("--max-size", a.max_size, "refuse images with a side longer than this")
-      ->check(CLI::Range(1LL, 65536LL));
+      ->check(obeys(option_rules::image_side));
+  add_memory_option(range);
 }
 
 RangeReadOptions read_options(const RangeArgs& a) {
@@ -72,7 +82,7 @@ RangeReadOptions read_options(const RangeArgs& a) {
 
 void run_range(const RangeArgs& a) {
   check_output(a.output);
-  if (!a.preview.empty()) check_writable(a.preview);
+  if (!a.preview.empty()) check_png_output(a.preview, "--preview");
   RangeFitOptions options;
   try {
     options.primitives = PrimitiveSet3D::parse(a.primitives);

@@ -1,6 +1,7 @@
 #include "commands.h"
 #include "csgfit/io/image.h"
 #include "csgfit/io/json.h"
+#include "option_checks.h"
 #include "output.h"
 
 namespace csgfit::cli {
@@ -14,11 +15,12 @@ struct RenderArgs {
 void add_render_options(CLI::App& renderer, RenderArgs& a) {
   renderer.add_option("input", a.input, "csgfit .json result")->required();
   renderer.add_option("-o,--output", a.output, "PNG")->required();
+  add_memory_option(renderer);
 }
 
 void run_render(const RenderArgs& a) {
-  check_writable(a.output);
-  const FitResult result = from_json(read_text_file(a.input));
+  check_png_output(a.output, "render -o");
+  const FitResult result = from_json(read_json_file(a.input));
   write_bitmap_png(a.output, render(result.tree, result.width, result.height));
 }
 

@@ -39,7 +39,4 @@ Command add_mesh_command(CLI::App& app);
 /// csgfit range: range images or point clouds to a 3D CSG tree (seed 002).
 Command add_range_command(CLI::App& app);
 
-/// The whole of a text file; InputError when it cannot be opened.
-std::string read_text_file(const std::string& path);
-
 }  // namespace csgfit::cli

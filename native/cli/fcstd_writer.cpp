@@ -32,11 +32,13 @@ std::string writer_script() {
 // freecadcmd keeps argv to itself, so the script takes its arguments from the environment; its
 // stderr goes to `log_path`, from which only its one-line reason reaches the user.
 pid_t start_writer(const std::string& writer, const std::string& json_path,
-                   const std::string& out_abs, const std::string& log_path) {
+                   const std::string& temp_abs, const std::string& out, const std::string& log_path) {
+  const std::string doc_name = fs::path(out).stem().string();
   const pid_t pid = fork();
   if (pid == 0) {
     setenv("CSGFIT_JSON", json_path.c_str(), 1);
-    setenv("CSGFIT_FCSTD", out_abs.c_str(), 1);
+    setenv("CSGFIT_FCSTD", temp_abs.c_str(), 1);
+    setenv("CSGFIT_DOC_NAME", doc_name.c_str(), 1);
     const int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     const int null = open("/dev/null", O_WRONLY);
     if (log >= 0) dup2(log, STDERR_FILENO);
@@ -62,18 +64,31 @@ void write_fcstd(const std::string& json_text, const std::string& out) {
   const std::string stem =
       (fs::temp_directory_path() / ("csgfit-" + std::to_string(getpid()))).string();
   const std::string json_path = stem + ".json", log_path = stem + ".log";
-  write_file_atomic(json_path, json_text);
-  const pid_t pid = start_writer(writer, json_path, fs::absolute(out).string(), log_path);
+  // Not through the command's batch: the document is the writer's input, not an output.
+  {
+    std::ofstream json_file(json_path, std::ios::binary | std::ios::trunc);
+    json_file << json_text;
+    if (!json_file.flush())
+      throw InputError("cannot write '" + out + "': no room for its document in " +
+                       fs::temp_directory_path().string());
+  }
+  // FreeCAD saves to a temporary file beside OUT, which then lands with the command's other
+  // outputs, so that a failed save or a later failure leaves no document behind.
+  const std::string temp = make_temp_beside(out);
+  const pid_t pid = start_writer(writer, json_path, fs::absolute(temp).string(), out, log_path);
   int status = -1;
   if (pid > 0) waitpid(pid, &status, 0);
   const std::string reason = writer_reason(log_path);
   fs::remove(json_path);
   fs::remove(log_path);
-  if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(out)) {
+  std::error_code ec;
+  if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || fs::file_size(temp, ec) == 0) {
+    fs::remove(temp, ec);
     if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
       throw InputError("cannot write '" + out + "': freecadcmd is not installed");
     throw InputError("cannot write '" + out + "':" + (reason.empty() ? " FreeCAD failed" : reason));
   }
+  publish_file(temp, out);
 }
 
 }  // namespace csgfit::cli

@@ -2,20 +2,24 @@
 
 #include <cstdio>
 
+#include "option_checks.h"
+
 namespace csgfit::cli {
 
 void add_fit_args(CLI::App& command, FitArgs& args, const FitArgsHelp& help) {
   command.add_option("input", args.input, help.input)->required();
   command.add_option("-o,--output", args.output, help.output)->required();
   command.add_option("--time", args.time_limit, "time budget in seconds")
-      ->check(CLI::PositiveNumber);
-  command.add_option("--seed", args.seed, "random seed: same seed and threads, same tree");
+      ->check(obeys(option_rules::time));
+  command.add_option("--seed", args.seed, "random seed: same seed and threads, same tree")
+      ->check(seed_check());
   command.add_option("--threads", args.threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
-  command.add_option("--k", args.k, help.k)->check(CLI::NonNegativeNumber);
+      ->check(obeys(option_rules::threads));
+  command.add_option("--k", args.k, help.k)->check(obeys(option_rules::k));
   command.add_option("--primitives", args.primitives, help.primitives);
-  command.add_option("--fn", args.fn, help.fn)->check(CLI::Range(3, 1000));
+  command.add_option("--fn", args.fn, help.fn)->check(obeys(option_rules::fn));
   command.add_flag("-q,--quiet", args.quiet, help.quiet);
+  add_memory_option(command);
 }
 
 void print_summary(const FitStats& stats) {

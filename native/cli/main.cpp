@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "csgfit/error.h"
+#include "csgfit/io/files.h"
 #include "output.h"
 
 using namespace csgfit;
@@ -32,7 +33,7 @@ int parse(CLI::App& app, int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::string msg = e.what();
     std::replace(msg.begin(), msg.end(), '\n', ' ');
-    std::cerr << "csgfit: " << msg << " (see csgfit --help)\n";
+    std::cerr << "csgfit: " << printable_message(msg) << " (see csgfit --help)\n";
     return 2;
   }
   return -1;
@@ -50,20 +51,24 @@ int main(int argc, char** argv) {
   if (const int status = parse(app, argc, argv); status >= 0) return status;
 
   try {
+    // Every output of the command lands at the end, together, or none does.
+    OutputBatch outputs;
     for (const cli::Command& command : commands)
       if (*command.app) command.run();
+    outputs.commit();
     return 0;
   } catch (const InputError& e) {
     std::cerr << "csgfit: " << e.what() << "\n";
     return 2;
   } catch (const std::invalid_argument& e) {
-    std::cerr << "csgfit: " << e.what() << "\n";
+    std::cerr << "csgfit: " << printable_message(e.what()) << "\n";
     return 2;
   } catch (const std::bad_alloc&) {
-    std::cerr << "csgfit: out of memory\n";
-    return 1;
+    // The memory budget refuses known large allocations up front; this is the rest.
+    std::cerr << "csgfit: out of memory (try a smaller input, --resolution or --max-memory)\n";
+    return 2;
   } catch (const std::exception& e) {
-    std::cerr << "csgfit: internal error: " << e.what() << "\n";
+    std::cerr << "csgfit: internal error: " << printable_message(e.what()) << "\n";
     return 1;
   }
 }

@@ -99,16 +99,10 @@ OutputFormat output_format(const std::string& out) {
   throw InputError("unknown output format '" + (ext.empty() ? out : ext) + "' " + kExpected);
 }
 
-void check_writable(const std::string& path) {
-  const fs::path parent = fs::absolute(fs::path(path)).parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(parent, ec))
-    throw InputError("cannot write '" + path + "': folder '" + parent.string() +
-                     "' does not exist");
-  if (access(parent.c_str(), W_OK) != 0)
-    throw InputError("cannot write '" + path + "': " + std::strerror(errno));
-  if (fs::is_directory(fs::path(path), ec))
-    throw InputError("cannot write '" + path + "': it is a folder");
+void check_png_output(const std::string& path, const char* option) {
+  if (lower_extension(path) != ".png")
+    throw InputError(std::string(option) + " writes PNG: give it a .png name, not '" + path + "'");
+  check_writable(path);
 }
 
 OutputFormat check_output(const std::string& out, const ModelFrame* frame_2d) {

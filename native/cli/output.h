@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "csgfit/io/files.h"  // check_writable
 #include "csgfit/model/frame.h"
 #include "csgfit/model/tree3d.h"
 #include "csgfit/pipeline/fit_bitmap.h"
@@ -21,9 +22,9 @@ bool has_step_support();
 /// extension, and for .step / .stp in a build without STEP.
 OutputFormat output_format(const std::string& out);
 
-/// Throws InputError unless `path` can be created: its folder exists and is writable, and it
-/// is not itself a folder.
-void check_writable(const std::string& path);
+/// The checks on a PNG output (`option` names it: "--preview"): a .png name, in a folder that
+/// takes a new file. Throws InputError.
+void check_png_output(const std::string& path, const char* option);
 
 /// The checks a command makes on OUT before it fits or reads anything: its format and its
 /// folder. A 2D fit passes its frame, whose thickness a STEP file needs.

@@ -3,9 +3,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
-#include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <string>
 
@@ -83,12 +81,6 @@ NativeResult run_fit(const U8Array& mask, const SearchArgs& args, int alternativ
     return csgfit::fit_bitmap(out.target, options, callback, flag);
   });
   return out;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw csgfit::InputError("cannot read " + path + ": " + std::strerror(errno));
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 void bind_frame(py::class_<NativeResult>& cls) {
@@ -197,7 +189,7 @@ void bind_2d(py::module_& m) {
   m.def("from_json", &from_json_text, py::arg("text"),
         "Parses JSON written by to_json into a NativeResult.");
   m.def(
-      "load_json_file", [](const std::string& path) { return from_json_text(read_text(path)); },
+      "load_json_file", [](const std::string& path) { return from_json_text(csgfit::read_json_file(path)); },
       py::arg("path"), "Reads a .json file written by to_json into a NativeResult.");
   m.def("default_k", &csgfit::default_k, py::arg("width"), py::arg("height"),
         "Size weight k used when none is given: 25 at 128 x 128, scaled to the pixel count.");

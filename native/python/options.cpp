@@ -6,9 +6,13 @@
 #include <cmath>
 #include <exception>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "bindings.h"
 #include "csgfit/error.h"
+#include "csgfit/model/memory_budget.h"
+#include "csgfit/pipeline/option_limits.h"
 
 namespace csgfit_python {
 
@@ -17,10 +21,9 @@ namespace py = pybind11;
 namespace {
 
 void check_search(const SearchArgs& args) {
-  if (!std::isfinite(args.time) || args.time <= 0)
-    throw csgfit::InputError("time must be a positive number of seconds");
-  if (args.threads < 0) throw csgfit::InputError("threads must be >= 0 (0 = all cores)");
-  if (!std::isfinite(args.k)) throw csgfit::InputError("k must be a finite number");
+  csgfit::check_option("time", args.time, csgfit::option_rules::time);
+  csgfit::check_option("threads", args.threads, csgfit::option_rules::threads);
+  if (args.k != -1) csgfit::check_option("k", args.k, csgfit::option_rules::k);  // -1: default
 }
 
 /// The parsers refuse unknown names with std::invalid_argument; `prefix` says which argument.
@@ -94,7 +97,48 @@ csgfit::MeshFitOptions mesh_fit_options(int resolution, double voxel_size) {
   return options;
 }
 
+namespace {
+
+// The rules by the names Python's argument checks use (csgfit/options.py).
+const csgfit::NumberRule& rule_named(const std::string& name) {
+  namespace r = csgfit::option_rules;
+  static const std::pair<const char*, const csgfit::NumberRule*> rules[] = {
+      {"time", &r::time},           {"threads", &r::threads},
+      {"k", &r::k},                 {"fn", &r::fn},
+      {"scale", &r::scale},         {"thickness", &r::thickness},
+      {"resolution", &r::resolution}, {"image_side", &r::image_side},
+      {"pixel_count", &r::pixel_count}, {"alternatives", &r::alternatives},
+      {"threshold", &r::threshold}, {"focal_length", &r::focal_length},
+      {"principal_point", &r::principal_point}};
+  for (const auto& [key, rule] : rules)
+    if (name == key) return *rule;
+  throw std::logic_error("no option rule named " + name);
+}
+
+void bind_limits(py::module_& m) {
+  m.def("rule_violation",
+        [](const std::string& rule, double value) {
+          return csgfit::rule_violation(rule_named(rule), value);
+        },
+        py::arg("rule"), py::arg("value"),
+        "Empty when value obeys the named option rule, else why not (one phrase).");
+  m.def("check_allocation", &csgfit::check_allocation, py::arg("bytes"), py::arg("what"),
+        "Raises InputError when `bytes` is over the memory budget.");
+  m.def("set_max_memory",
+        [](const std::string& size) {
+          csgfit::set_memory_budget(
+              static_cast<std::size_t>(csgfit::parse_memory_size("max_memory", size)));
+        },
+        py::arg("size"), "Sets the memory budget: '4G', '512M' or bytes; '0' is refused.");
+  m.def("reset_max_memory", [] { csgfit::set_memory_budget(0); },
+        "Restores the default memory budget (half of the machine's memory).");
+  m.def("memory_budget", &csgfit::memory_budget, "The memory budget in force, in bytes.");
+}
+
+}  // namespace
+
 void bind_errors(py::module_& m) {
+  bind_limits(m);
   // Bad input is a ValueError for Python users; InputError keeps the solver's one-line message.
   static py::exception<csgfit::InputError> input_error(m, "InputError", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr p) {

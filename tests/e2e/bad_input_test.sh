@@ -61,9 +61,9 @@ expect_failure() {
   if [ -e "$output" ]; then
     fail "$name: output '$output' exists after a failure"
   fi
-  if compgen -G "$output.tmp-*" >/dev/null; then
-    fail "$name: temporary file left behind: $(compgen -G "$output.tmp-*")"
-  fi
+  local left
+  left=$(e2e_temp_files "$(dirname "$output")")
+  [ -z "$left" ] || fail "$name: temporary file left behind: $left"
   echo "ok: $name: $(cat "$err")"
 }
 
@@ -133,8 +133,7 @@ if expect_success all_black "$out" image "$TMP/black.png" -o "$out" --time 1; th
   squares=$(grep -o 'square(' "$out" | wc -l)
   [ "$squares" -eq 1 ] || fail "all_black: expected exactly one square( in $out, found $squares"
 fi
-if compgen -G "$TMP/*.tmp-*" >/dev/null; then
-  fail "temporary files left behind: $(compgen -G "$TMP/*.tmp-*")"
-fi
+left=$(e2e_temp_files "$TMP")
+[ -z "$left" ] || fail "temporary files left behind: $left"
 
 e2e_finish "all bad-input checks passed"

@@ -56,6 +56,12 @@ e2e_tmpdir() {
   trap 'rm -rf "$TMP"' EXIT
 }
 
+# e2e_temp_files DIR: the writers' temporary files left in DIR (hidden ".NAME.tmp-PID-..."
+# files beside each output), one per line; empty when there are none.
+e2e_temp_files() {
+  find "$1" -maxdepth 1 -name '*.tmp-*' 2>/dev/null
+}
+
 # fail MESSAGE: one failed check; the test goes on, and e2e_finish reports the count.
 fail() {
   echo "FAIL: $*" >&2

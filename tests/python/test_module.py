@@ -237,7 +237,7 @@ def test_json_and_scad_outputs_round_trip(tmp_path):
     assert "linear_extrude" not in r.to_scad()
     with pytest.raises(ValueError):
         csgfit.load_json('{"schema": "csgfit/1"}')
-    with pytest.raises(csgfit.InputError, match="cannot read .*missing.json") as info:
+    with pytest.raises(csgfit.InputError, match="cannot open .*missing.json") as info:
         csgfit.load_json(tmp_path / "missing.json")
     assert "\n" not in str(info.value)
 

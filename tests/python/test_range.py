@@ -194,7 +194,7 @@ def one_line_input_error(call, *words):
 @needs_bench
 def test_bad_intrinsics_are_one_line():
     one_line_input_error(lambda: csgfit.fit_range(ORTHO, pixel_size=float("nan")), "pixel_size")
-    one_line_input_error(lambda: csgfit.fit_range(ORTHO, fx=0, fy=500), "fx", "> 0")
+    one_line_input_error(lambda: csgfit.fit_range(ORTHO, fx=0, fy=500), "fx", "[0.001, 1e+07]")
     one_line_input_error(lambda: csgfit.fit_range(ORTHO, fx=-3.0, fy=500), "fx")
     one_line_input_error(lambda: csgfit.fit_range(ORTHO, depth_unit="a lot"), "depth_unit")
     one_line_input_error(lambda: csgfit.fit_range(ORTHO, cx=float("inf")), "cx")

@@ -29,7 +29,7 @@ from . import _csgfit
 from .bitmaps import fit_image, load_bitmap, load_json
 from .meshes import fit_mesh, fit_voxels, load_mesh, load_voxels, voxelize
 from .options import (DEFAULT_PRIMITIVES_3D, PRIMITIVE_TYPES, PRIMITIVE_TYPES_3D, QUALITIES,
-                      CancelToken, FitProgress, InputError)
+                      CancelToken, FitProgress, InputError, set_max_memory)
 from .ranges import (DEFAULT_PRIMITIVES_RANGE, GraphArc, GraphNode, PrecedenceGraph,
                      RangeFitResult, SurfacePatch, ViewAgreement, fit_points, fit_range)
 from .results import Alternative, FitResult, FitResult3D, FitStats, GridResult, Result
@@ -70,6 +70,7 @@ __all__ = [
     "load_json",
     "load_mesh",
     "load_voxels",
+    "set_max_memory",
     "voxelize",
 ]
 

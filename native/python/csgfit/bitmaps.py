@@ -6,26 +6,41 @@ import os
 from typing import Callable, Optional, Sequence, Union
 
 from . import _csgfit
-from .options import QUALITIES, CancelToken, FitProgress, InputError, search_arguments
+from .options import (QUALITIES, CancelToken, FitProgress, InputError, check_array_size, integer,
+                      number, search_arguments)
 from .results import FitResult
 
 
 def _mask_from_array(array, threshold: Optional[int], invert: bool):
     import numpy as np
 
-    a = np.asarray(array)
+    try:
+        a = np.asarray(array)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"image: {str(e).splitlines()[0]}") from None
     if a.ndim != 2:
         raise InputError(f"expected a 2D array (height x width), got {a.ndim} dimension"
                          f"{'' if a.ndim == 1 else 's'}")
     if a.size == 0:
         raise InputError(f"empty image ({a.shape[1]} x {a.shape[0]} pixels)")
+    why = _csgfit.rule_violation("pixel_count", float(a.size))
+    if why:
+        raise InputError(f"a {a.shape[1]} x {a.shape[0]} image: its pixel count {why}")
+    check_array_size(a, f"a {a.shape[1]} x {a.shape[0]} image")
     if a.dtype == np.bool_:
-        return np.logical_not(a) if invert else a
+        return np.ascontiguousarray(np.logical_not(a) if invert else a)
     if a.dtype == np.uint8:
-        return _csgfit.threshold_grey(np.ascontiguousarray(a),
-                                      -1 if threshold is None else int(threshold), invert)
+        return _csgfit.threshold_grey(np.ascontiguousarray(a), _threshold(threshold), invert)
     raise InputError(f"unsupported array dtype {a.dtype}: pass a bool mask (True = shape) or "
                      "uint8 grey levels (dark = shape)")
+
+
+def _threshold(threshold) -> int:
+    return -1 if threshold is None else integer("threshold", threshold, "threshold")
+
+
+def _max_size(max_size) -> int:
+    return 0 if max_size == 0 else integer("max_size", max_size, "image_side")
 
 
 def load_bitmap(path: Union[str, os.PathLike], *, threshold: Optional[int] = None,
@@ -36,8 +51,8 @@ def load_bitmap(path: Union[str, os.PathLike], *, threshold: Optional[int] = Non
     grey level (pixels <= it are shape; None = Otsu); max_size > 0 downsamples so that neither
     side exceeds it. Raises InputError (a ValueError) for missing or bad files.
     """
-    return _csgfit.load_bitmap(os.fspath(path), -1 if threshold is None else int(threshold),
-                               bool(invert), 0, int(max_size))
+    return _csgfit.load_bitmap(os.fspath(path), _threshold(threshold), bool(invert), 0,
+                               _max_size(max_size))
 
 
 def fit_image(image, *, threshold: Optional[int] = None, invert: bool = False,
@@ -77,6 +92,12 @@ def fit_image(image, *, threshold: Optional[int] = None, invert: bool = False,
         raise InputError(f"unknown quality '{quality}' (expected {', '.join(QUALITIES)})")
     search = search_arguments(k=k, primitives=primitives, time=time, threads=threads, seed=seed,
                               progress=progress, cancel=cancel, default_primitives="all")
+    # Checked whether or not this input uses them, as the CLI checks its options.
+    _threshold(threshold)
+    _max_size(max_size)
+    alternatives = integer("alternatives", alternatives, "alternatives")
+    pixel_size = number("pixel_size", pixel_size, "scale")
+    thickness = number("thickness", thickness, "thickness")
     if isinstance(image, (str, bytes, os.PathLike)):
         path = os.fsdecode(image)
         mask = load_bitmap(path, threshold=threshold, invert=invert, max_size=max_size)
@@ -86,8 +107,8 @@ def fit_image(image, *, threshold: Optional[int] = None, invert: bool = False,
         source = ""
     if not mask.any():
         raise InputError("no shape found: the image has no shape pixels (try invert=True?)")
-    return FitResult(_csgfit.fit(mask, alternatives=int(alternatives), quality=quality,
-                                 pixel_size=float(pixel_size), thickness=float(thickness),
+    return FitResult(_csgfit.fit(mask, alternatives=alternatives, quality=quality,
+                                 pixel_size=pixel_size, thickness=thickness,
                                  source=source, **search))
 
 
@@ -96,7 +117,14 @@ def load_json(text_or_path: Union[str, os.PathLike]) -> FitResult:
 
     Accepts the JSON text itself or a path to a .json file. Raises InputError when malformed.
     """
-    text = os.fspath(text_or_path)
-    if text.lstrip().startswith("{"):
+    try:
+        text = os.fspath(text_or_path)
+    except TypeError:
+        raise InputError("load_json takes JSON text or a path") from None
+    if isinstance(text, bytes):
+        text = os.fsdecode(text)
+    # Text, not a path: JSON starts with "{" (or "[" for a malformed one), and no path has a
+    # line break or is longer than the system's path limit.
+    if text.lstrip()[:1] in ("{", "[") or "\n" in text or len(text) > 4096:
         return FitResult(_csgfit.from_json(text))
     return FitResult(_csgfit.load_json_file(text))

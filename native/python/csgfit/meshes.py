@@ -7,7 +7,7 @@ from typing import Callable, Optional, Sequence, Union
 
 from . import _csgfit
 from .options import (DEFAULT_PRIMITIVES_3D, CancelToken, FitProgress, InputError,
-                      search_arguments)
+                      check_array_size, integer, number, search_arguments)
 from .results import FitResult3D
 
 
@@ -27,11 +27,39 @@ def voxelize(vertices, triangles, *, resolution: int = 0, voxel_size: float = 0.
     resolution: voxels along the longest side; voxel_size: explicit edge; both 0 = automatic
     (about 11 voxels across the mean wall thickness, 96..256 along the longest side, at most
     160^3 voxels)."""
+    v, t = _mesh_arrays(vertices, triangles)
+    grid = _grid(resolution, voxel_size)
+    return _csgfit.voxelize(v, t, grid["resolution"], grid["voxel_size"])
+
+
+def _grid(resolution, voxel_size) -> dict:
+    return dict(resolution=integer("resolution", resolution, "resolution"),
+                voxel_size=0.0 if voxel_size == 0 else number("voxel_size", voxel_size, "scale"))
+
+
+def _mesh_arrays(vertices, triangles):
+    """Float vertices and int64 triangles, contiguous; float indices must be whole numbers
+    (a cast would truncate 2.7 to vertex 2 without a word)."""
     import numpy as np
 
-    return _csgfit.voxelize(np.asarray(vertices, dtype=np.float64),
-                            np.asarray(triangles, dtype=np.int64), int(resolution),
-                            float(voxel_size))
+    try:
+        v = np.asarray(vertices)
+        t = np.asarray(triangles)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"mesh arrays: {str(e).splitlines()[0]}") from None
+    check_array_size(v, f"vertices ({v.size} values)")
+    check_array_size(t, f"triangles ({t.size} values)")
+    if t.dtype.kind == "f":
+        if t.size and not (np.isfinite(t).all() and (t == np.floor(t)).all()):
+            raise InputError("triangles must be integer vertex indices (got fractional or "
+                             "non-finite values)")
+    elif t.dtype.kind not in "iu" and t.size:
+        raise InputError(f"triangles must be integer vertex indices, not {t.dtype}")
+    try:
+        return (np.ascontiguousarray(v, dtype=np.float64),
+                np.ascontiguousarray(t, dtype=np.int64))
+    except (TypeError, ValueError) as e:
+        raise InputError(f"mesh arrays: {str(e).splitlines()[0]}") from None
 
 
 def _search(k, primitives, time, threads, seed, progress, cancel) -> dict:
@@ -67,7 +95,7 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
     import numpy as np
 
     search = _search(k, primitives, time, threads, seed, progress, cancel)
-    grid = dict(resolution=int(resolution), voxel_size=float(voxel_size))
+    grid = _grid(resolution, voxel_size)
     if isinstance(mesh, (str, bytes, os.PathLike)):
         path = os.fsdecode(mesh)
         return FitResult3D(_csgfit.fit_file(path, source=os.path.basename(path), **grid,
@@ -76,11 +104,7 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
         vertices, triangles = mesh
     except (TypeError, ValueError):
         raise InputError("mesh must be a path or a (vertices, triangles) pair") from None
-    try:
-        v = np.asarray(vertices, dtype=np.float64)
-        t = np.asarray(triangles, dtype=np.int64)
-    except (TypeError, ValueError) as e:
-        raise InputError(f"mesh arrays: {e}") from None
+    v, t = _mesh_arrays(vertices, triangles)
     return FitResult3D(_csgfit.fit_mesh_arrays(v, t, **grid, **search))
 
 
@@ -109,9 +133,12 @@ def fit_voxels(voxels, *, origin: Sequence[float] = (0.0, 0.0, 0.0), voxel_size:
     if a.ndim != 3:
         raise InputError(f"expected a 3D voxel array (nx x ny x nz), got {a.ndim} dimension"
                          f"{'' if a.ndim == 1 else 's'}")
+    # The solid mask below is a byte per voxel, whatever the array's own strides.
+    _csgfit.check_allocation(float(a.size), "a {} x {} x {} voxel array".format(*a.shape))
     try:
         origin = [float(x) for x in origin]
     except (TypeError, ValueError):
         raise InputError("origin must be three numbers") from None
     return FitResult3D(_csgfit.fit_voxels(np.ascontiguousarray(a != 0).view(np.uint8), origin,
-                                          float(voxel_size), source=str(source), **search))
+                                          number("voxel_size", voxel_size, "scale"),
+                                          source=str(source), **search))

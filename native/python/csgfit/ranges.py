@@ -8,7 +8,6 @@ and refines the tree against the points and the viewing rays, as `csgfit range` 
 from __future__ import annotations
 
 import json
-import operator
 import os
 import shutil
 import subprocess
@@ -17,7 +16,7 @@ from dataclasses import dataclass
 from typing import Callable, List, Optional, Sequence, Tuple, Union
 
 from . import _csgfit
-from .options import CancelToken, FitProgress, InputError, search_arguments
+from .options import CancelToken, FitProgress, InputError, number, search_arguments
 from .results import FitStats, Result
 from .tree import Primitive3D, tree_from_json3d
 
@@ -201,35 +200,8 @@ def _write_fcstd(json_text: str, path: str) -> None:
         raise InputError(f"cannot write '{path}': " + (reasons[-1] if reasons else "FreeCAD failed"))
 
 
-def _number(name: str, value) -> Optional[float]:
-    """None, or value as a float; anything else is one line naming the argument (the native
-    side then checks the range)."""
-    if value is None:
-        return None
-    if isinstance(value, bool):
-        raise InputError(f"{name} must be a number, got {value!r}")
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {value!r}") from None
-
-
-def _integer(name: str, value) -> int:
-    if not isinstance(value, bool):
-        try:
-            return operator.index(value)
-        except TypeError:
-            pass
-    raise InputError(f"{name} must be an integer, got {value!r}")
-
-
 def _search(primitives, time, threads, seed, progress, cancel) -> dict:
-    if _integer("seed", seed) < 0:
-        raise InputError("seed must be >= 0")
-    if time is None:
-        raise InputError("time must be a positive number of seconds")
-    args = search_arguments(k=None, primitives=primitives, time=_number("time", time),
-                            threads=_integer("threads", threads), seed=int(seed),
+    args = search_arguments(k=None, primitives=primitives, time=time, threads=threads, seed=seed,
                             progress=progress,
                             cancel=cancel, default_primitives=",".join(DEFAULT_PRIMITIVES_RANGE))
     del args["k"]  # the range fit weighs primitives by the evidence, not by a k
@@ -275,9 +247,10 @@ def fit_range(inputs: Union[PathLike, Sequence[PathLike]], *, time: float = 20.0
     too few points, views that do not overlap.
     """
     paths = _paths(inputs)
-    intrinsics = {name: _number(name, v) for name, v in
-                  (("fx", fx), ("fy", fy), ("cx", cx), ("cy", cy), ("pixel_size", pixel_size),
-                   ("depth_unit", depth_unit))}
+    intrinsics = {name: number(name, v, rule, optional=True) for name, v, rule in
+                  (("fx", fx, "focal_length"), ("fy", fy, "focal_length"),
+                   ("cx", cx, "principal_point"), ("cy", cy, "principal_point"),
+                   ("pixel_size", pixel_size, "scale"), ("depth_unit", depth_unit, "scale"))}
     search = _search(primitives, time, threads, seed, progress, cancel)
     return RangeFitResult(_csgfit.fit_range_files(paths, **intrinsics, **search))
 
@@ -305,8 +278,16 @@ def fit_points(points, normals=None, *, time: float = 20.0, seed: int = 1, threa
         return RangeFitResult(_csgfit.fit_range_files([path], **search))
     arrays = []
     for name, a in (("points", points), ("normals", normals)):
+        if a is None:
+            arrays.append(None)
+            continue
         try:
-            arrays.append(None if a is None else np.asarray(a, dtype=np.float64))
+            a = np.asarray(a)
+        except (TypeError, ValueError) as e:
+            raise InputError(f"{name}: {str(e).splitlines()[0]}") from None
+        _csgfit.check_allocation(float(a.size) * 8, f"{name} ({a.size} values)")
+        try:
+            arrays.append(np.ascontiguousarray(a, dtype=np.float64))
         except (TypeError, ValueError) as e:
             raise InputError(f"{name}: {str(e).splitlines()[0]}") from None
     return RangeFitResult(_csgfit.fit_point_arrays(arrays[0], arrays[1], **search))

@@ -7,6 +7,7 @@ import json
 from dataclasses import dataclass
 from typing import Optional
 
+from .options import integer, number
 from .tree import tree_from_json3d, tree_from_pixels
 
 
@@ -64,7 +65,7 @@ class Result:
     def to_scad(self, fn: Optional[int] = None) -> str:
         """The best tree as OpenSCAD 2021.01 source in model units; fn is $fn for round
         primitives (default SCAD_FN)."""
-        return self._native.to_scad(fn=self.SCAD_FN if fn is None else int(fn))
+        return self._native.to_scad(fn=self.SCAD_FN if fn is None else integer("fn", fn, "fn"))
 
     def to_dict(self) -> dict:
         """The JSON document as plain dicts (what the FreeCAD builder consumes)."""
@@ -135,7 +136,7 @@ class FitResult(GridResult):
 
     @thickness.setter
     def thickness(self, value: float) -> None:
-        self._native.thickness = float(value)
+        self._native.thickness = number("thickness", value, "thickness")
 
     def to_dict(self) -> dict:
         """Model-unit tree and stats as plain dicts, with the canvas."""

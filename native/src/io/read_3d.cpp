@@ -42,8 +42,10 @@ TriangleMesh read_mesh(const std::string& path, const MeshReadOptions& options,
                        MeshReadInfo* info) {
   if (!is_mesh_path(path)) fail_unknown_format(path, "mesh", ".stl, .obj, .off or .ply");
   const std::string ext = lower_extension(path);
-  const std::string data =
-      io_detail::read_whole_file(path, options.max_file_bytes, "the input limit");
+  const bool text = ext == "obj" || ext == "off";
+  const std::string data = io_detail::read_whole_file(
+      path, options.max_file_bytes, "the input limit",
+      text ? io_detail::FileContent::Text : io_detail::FileContent::Binary);
   if (ext == "stl") return io_detail::read_stl(path, data, options, info);
   if (ext == "obj") return io_detail::read_obj(path, data, options, info);
   if (ext == "off") return io_detail::read_off(path, data, options, info);

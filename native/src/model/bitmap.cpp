@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
+#include "csgfit/model/memory_budget.h"
 #include "model/bit_words.h"
 
 namespace csgfit {
@@ -10,6 +12,8 @@ namespace csgfit {
 Bitmap::Bitmap(int width, int height) : width_(width), height_(height) {
   if (width < 0 || height < 0) throw std::invalid_argument("bitmap size must not be negative");
   words_per_row_ = (width + 63) / 64;
+  check_allocation(8.0 * words_per_row_ * height,
+                   "a " + std::to_string(width) + " x " + std::to_string(height) + " raster");
   bits_.assign(static_cast<std::size_t>(words_per_row_) * static_cast<std::size_t>(height), 0);
 }
 

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
+#include "csgfit/model/memory_budget.h"
 #include "model/bit_words.h"
 
 namespace csgfit {
@@ -30,6 +32,9 @@ VoxelGrid::VoxelGrid(int nx, int ny, int nz, double origin_x, double origin_y, d
   if (rows != 0 && static_cast<std::size_t>(words_per_row_) >
                        std::numeric_limits<std::size_t>::max() / sizeof(std::uint64_t) / rows)
     throw std::invalid_argument("voxel grid too large");
+  check_allocation(8.0 * words_per_row_ * static_cast<double>(rows),
+                   "a " + std::to_string(nx) + " x " + std::to_string(ny) + " x " +
+                       std::to_string(nz) + " voxel grid");
   bits_.assign(static_cast<std::size_t>(words_per_row_) * rows, 0);
 }
 

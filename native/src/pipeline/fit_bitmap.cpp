@@ -173,6 +173,7 @@ FitStats stats_of(const Candidate& c, const Bitmap& target, double k) {
 FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
                      const ProgressCallback& progress, const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
+  check_search_options(options.time_limit, options.threads, options.k);
   check_fit_request(target, options.primitives, options.time_limit);
   const Problem2D pb = make_problem(target, options, start);
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };

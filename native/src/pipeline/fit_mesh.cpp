@@ -201,7 +201,7 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
                        const ProgressCallback& progress, const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  if (!(options.time_limit > 0)) throw std::invalid_argument("the time budget must be positive");
+  check_search_options(options.time_limit, options.threads, options.k);
   if (mesh_options.resolution < 0) throw std::invalid_argument("the resolution must be >= 0");
   if (!(mesh_options.voxel_size >= 0) || !std::isfinite(mesh_options.voxel_size))
     throw std::invalid_argument("the voxel size must be >= 0");

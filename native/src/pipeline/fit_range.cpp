@@ -161,7 +161,7 @@ RangeFitResult fit_range(const std::vector<RangeScan>& scans, const RangeFitOpti
                          const ProgressCallback& progress, const std::atomic<bool>* cancel) {
   if (scans.empty()) throw std::invalid_argument("fit_range: no scan given");
   if (options.primitives.empty()) throw std::invalid_argument("no primitive type allowed");
-  if (!(options.time_limit > 0)) throw std::invalid_argument("the time budget must be positive");
+  check_search_options(options.time_limit, options.threads, -1);
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -3,9 +3,26 @@
 #pragma once
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
+#include <string>
+
+#include "csgfit/pipeline/option_limits.h"
 
 namespace csgfit {
+
+/// Throws std::invalid_argument (the fits' contract for bad options) for a budget, thread
+/// count or size weight outside option_rules; a negative k is the contract's "default for the
+/// input's size", NaN is not.
+inline void check_search_options(double time_limit, int threads, double k) {
+  const auto check = [](const char* name, double value, const NumberRule& rule) {
+    const std::string why = rule_violation(rule, value);
+    if (!why.empty()) throw std::invalid_argument(std::string(name) + " " + why);
+  };
+  check("time", time_limit, option_rules::time);
+  check("threads", threads, option_rules::threads);
+  if (std::isnan(k) || k >= 0) check("k", k, option_rules::k);
+}
 
 /// Throws std::invalid_argument, naming the problem, for an empty target, no primitive kind or a
 /// budget that is not positive (NaN included).

@@ -112,6 +112,7 @@ Candidate polish(Candidate best, const VoxelGrid& target, const FitOptions3D& op
 FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
                        const ProgressCallback& progress, const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
+  check_search_options(options.time_limit, options.threads, options.k);
   check_fit_request(target, options.primitives, options.time_limit);
   if (!options.primitives.has(PrimitiveKind3D::Box))
     throw std::invalid_argument("the 3D fit needs boxes among the primitives");

@@ -12,6 +12,9 @@
 
 namespace csgfit {
 
+/// The text of a csgfit .json document (2D or 3D) at `path`, read under a size limit: a
+/// missing, empty, binary or oversized file is an InputError naming it.
+std::string read_json_file(const std::string& path);
 
 /// Serialises a result (best tree, stats, alternatives) as JSON text, schema version 1.
 std::string to_json(const FitResult& result, const ModelFrame& frame);

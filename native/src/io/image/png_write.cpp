@@ -12,6 +12,7 @@
 
 #include "csgfit/io/files.h"
 #include "csgfit/io/image.h"
+#include "csgfit/model/memory_budget.h"
 #include "io/image/format_checks.h"
 #include "io/input_file.h"
 
@@ -78,6 +79,15 @@ void write_rgb_png(const std::string& path, int width, int height,
 }
 
 void write_bitmap_png(const std::string& path, const Bitmap& bitmap) {
+  if (bitmap.empty())
+    io_detail::fail("cannot write " + io_detail::quoted(path) + ": the raster is " +
+                    std::to_string(bitmap.width()) + " x " + std::to_string(bitmap.height()) +
+                    " pixels (nothing to draw)");
+  const double pixels = static_cast<double>(bitmap.width()) * bitmap.height();
+  if (pixels > static_cast<double>(1LL << 30))
+    io_detail::fail("cannot write " + io_detail::quoted(path) + ": over 2^30 pixels for a PNG");
+  check_allocation(2 * pixels, "a PNG of " + std::to_string(bitmap.width()) + " x " +
+                                   std::to_string(bitmap.height()) + " pixels");
   std::vector<unsigned char> grey(static_cast<std::size_t>(bitmap.width()) * bitmap.height(), 255);
   for (int r = 0; r < bitmap.height(); ++r) {
     for (int c = 0; c < bitmap.width(); ++c) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -87,6 +88,9 @@ ImageHeader read_header(const std::string& path, const std::string& file) {
     if (!stb_dimensions(bytes, static_cast<int>(file.size()), &h.width, &h.height)) {
       fail_not_an_image(path);
     }
+    // A negative BMP height is a top-down image, which stb decodes; its stbi_info does not
+    // drop the sign.
+    if (h.format == Format::kBmp) h.height = std::llabs(h.height);
   }
   if (h.width <= 0 || h.height <= 0) fail(quoted(path) + " is " + size_text(h.width, h.height));
   return h;

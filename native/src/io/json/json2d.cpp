@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "csgfit/error.h"
+#include "io/input_file.h"
 #include "io/json/json_fields.h"
 
 namespace csgfit {
@@ -28,6 +29,8 @@ constexpr double kPi = 3.14159265358979323846;
 // exhausting the stack in the recursive conversion.
 constexpr int kMaxDepth = 256;
 constexpr long long kMaxCanvas = 1 << 20;
+// The largest canvas a fit can have (option_rules::pixel_count): renders of it stay in int range.
+constexpr long long kMaxCanvasPixels = 1LL << 30;
 
 // ---- writing -----------------------------------------------------------------------------
 
@@ -285,6 +288,11 @@ static FitResult from_json_checked(const std::string& text, ModelFrame* frame) {
   }
   result.width = (*canvas)["width_px"].get<int>();
   result.height = (*canvas)["height_px"].get<int>();
+  if (result.width == 0 || result.height == 0 ||
+      static_cast<long long>(result.width) * result.height > kMaxCanvasPixels)
+    fail("canvas", std::to_string(result.width) + " x " + std::to_string(result.height) +
+                       " pixels: a fit's canvas has 1 to " + std::to_string(kMaxCanvasPixels) +
+                       " pixels");
   f.pixel_size = positive(*canvas, "pixel_size", "canvas");
   f.thickness = number(*canvas, "thickness", "canvas", false);
   if (f.thickness < 0) fail("canvas", "'thickness' must be >= 0");
@@ -313,6 +321,12 @@ static FitResult from_json_checked(const std::string& text, ModelFrame* frame) {
   }
   if (frame) *frame = f;
   return result;
+}
+
+std::string read_json_file(const std::string& path) {
+  // A document of 10^5 primitives is under 50 MB.
+  return io_detail::read_whole_file(path, 256LL << 20, "too large for a csgfit document",
+                                    io_detail::FileContent::Text);
 }
 
 FitResult from_json(const std::string& text, ModelFrame* frame) {

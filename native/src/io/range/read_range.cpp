@@ -36,7 +36,9 @@ RangeScan read_range(const std::string& path, const RangeReadOptions& options) {
   // PNG compresses: its limit is checked on the header's size, not on the file's.
   const long long max_bytes = image ? file_limit(options.max_pixels, 24)
                                     : file_limit(options.max_points, ext == "xyz" ? 240 : 64);
-  const std::string data = d::read_whole_file(path, max_bytes, "over the range reader's limit");
+  const std::string data =
+      d::read_whole_file(path, max_bytes, "over the range reader's limit",
+                         ext == "xyz" ? d::FileContent::Text : d::FileContent::Binary);
   PointNormalOptions normals;
   RangeScan scan;
   if (ext == "png") {

@@ -95,7 +95,8 @@ std::array<double, 16> SidecarFields::pose() const {
 }
 
 Json parse_sidecar(const std::string& path) {
-  const std::string text = read_whole_file(path, kMaxSidecarBytes, "too large for a sidecar");
+  const std::string text =
+      read_whole_file(path, kMaxSidecarBytes, "too large for a sidecar", FileContent::Text);
   try {
     Json j = Json::parse(text);
     if (!j.is_object()) fail(quoted(path) + " is not a JSON object (a range image sidecar)");
