@@ -35,23 +35,31 @@ int MeshBuilder::add_welded_vertex(double x, double y, double z, const char* wha
   const geometry::Point p{x + 0.0, y + 0.0, z + 0.0};  // -0 and +0 are one position
   if (2 * (mesh_.vertices.size() + 1) > weld_.size()) grow_weld_table();
   const std::size_t mask = weld_.size() - 1;
-  std::size_t slot = geometry::position_hash(p) & mask;
-  for (; weld_[slot] >= 0; slot = (slot + 1) & mask)
-    if (mesh_.vertices[weld_[slot]] == p) return weld_[slot];
+  const std::uint64_t hash = geometry::position_hash(p);
+  const std::uint64_t tag = hash & ~std::uint64_t{0xffffffff};
+  std::size_t slot = hash & mask;
+  for (; weld_[slot] != kFreeSlot; slot = (slot + 1) & mask) {
+    // The tag (the hash's high half) spares the vertex lookup, a cache miss, on most probes.
+    const std::uint64_t entry = weld_[slot];
+    const int v = static_cast<int>(entry & 0xffffffff);
+    if ((entry & ~std::uint64_t{0xffffffff}) == tag && mesh_.vertices[v] == p) return v;
+  }
   add_vertex(p[0], p[1], p[2], what, number);
-  weld_[slot] = static_cast<int>(mesh_.vertices.size() - 1);
-  return weld_[slot];
+  const int index = static_cast<int>(mesh_.vertices.size() - 1);
+  weld_[slot] = tag | static_cast<std::uint32_t>(index);
+  return index;
 }
 
 void MeshBuilder::grow_weld_table() {
-  std::vector<int> old = std::move(weld_);
-  weld_.assign(std::max<std::size_t>(1024, old.size() * 2), -1);
+  std::vector<std::uint64_t> old = std::move(weld_);
+  weld_.assign(std::max<std::size_t>(1024, old.size() * 2), kFreeSlot);
   const std::size_t mask = weld_.size() - 1;
-  for (int v : old) {
-    if (v < 0) continue;
+  for (std::uint64_t entry : old) {
+    if (entry == kFreeSlot) continue;
+    const int v = static_cast<int>(entry & 0xffffffff);
     std::size_t slot = geometry::position_hash(mesh_.vertices[v]) & mask;
-    while (weld_[slot] >= 0) slot = (slot + 1) & mask;
-    weld_[slot] = v;
+    while (weld_[slot] != kFreeSlot) slot = (slot + 1) & mask;
+    weld_[slot] = entry;
   }
 }
 

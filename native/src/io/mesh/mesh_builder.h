@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -50,9 +51,11 @@ class MeshBuilder {
   const MeshReadOptions& options_;
   TriangleMesh mesh_;
   std::size_t faces_ = 0;
-  // The welded vertices: an open-addressed table of vertex indices (-1 = free), kept at most
-  // half full. A node-based map spent a third of a 1M-triangle STL's read on allocation.
-  std::vector<int> weld_;
+  // The welded vertices: an open-addressed table, kept at most half full, of entries (high
+  // half of the position's hash) << 32 | vertex index. A node-based map spent a third of a
+  // 1M-triangle STL's read on allocation.
+  static constexpr std::uint64_t kFreeSlot = ~std::uint64_t{0};
+  std::vector<std::uint64_t> weld_;
   void grow_weld_table();
 };
 
