@@ -55,9 +55,13 @@ bool is_png(const std::string& d) {
   return d.size() >= 8 && std::memcmp(d.data(), kSignature, 8) == 0;
 }
 
+// As stb recognises one (its SOI marker may have fill bytes: FF FF D8), so that stb never
+// parses a JPEG that check_jpeg has not seen.
 bool is_jpeg(const std::string& d) {
   const std::uint8_t* u = bytes_of(d);
-  return d.size() >= 3 && u[0] == 0xFF && u[1] == 0xD8 && u[2] == 0xFF;
+  std::size_t i = 1;
+  while (i < d.size() && u[i] == 0xFF) ++i;
+  return d.size() >= 2 && u[0] == 0xFF && i < d.size() && u[i] == 0xD8;
 }
 
 bool is_bmp(const std::string& d) { return d.size() >= 2 && d[0] == 'B' && d[1] == 'M'; }
