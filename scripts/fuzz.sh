@@ -54,11 +54,12 @@ run_target() {
   cp "$repo/fuzz/corpus/$t/"* "$scratch/"
   log="$dir/fuzz.log"
   # detect_leaks: a reader that leaks on some input is a finding too.
-  ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:symbolize=1" \
-  UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
-    nice -n 10 "$bin" -max_total_time="$seconds" -runs="$runs" -rss_limit_mb=2048 \
-      -malloc_limit_mb=1024 -timeout=10 -print_final_stats=1 -artifact_prefix="$dir/" \
-      "$scratch" >"$log" 2>&1 || rc=$?
+  # (The braces keep the shell's own "Aborted" line out of the output: the log has the report.)
+  { ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:symbolize=1" \
+    UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
+      nice -n 10 "$bin" -max_total_time="$seconds" -runs="$runs" -rss_limit_mb=2048 \
+        -malloc_limit_mb=1024 -timeout=10 -print_final_stats=1 -artifact_prefix="$dir/" \
+        "$scratch" >"$log" 2>&1; } 2>/dev/null || rc=$?
   rm -rf "$scratch"
   local n eps artifacts crashes
   n="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)"
