@@ -15,6 +15,7 @@ packages=(
   build-essential cmake pkg-config
   libstb-dev nlohmann-json3-dev libcli11-dev libeigen3-dev libcgal-dev
   libgtest-dev libbenchmark-dev
+  clang-14 libfuzzer-14-dev  # the sanitized build and the fuzz targets (docs/FUZZING.md)
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
   libtbb-dev  # OCCT's CMake targets link libtbb.so, which libocct-*-dev does not pull in
   python3 python3-dev python3-numpy python3-pytest python3-pil pybind11-dev python3-pybind11
@@ -42,12 +43,19 @@ build_all() {
 }
 
 # The GoogleTest suite built with ASan + UBSan. -O1 -g1 (line tables for the reports) builds in
-# half the time of RelWithDebInfo; the suite runs as one shard per core.
+# half the time of RelWithDebInfo; the suite runs as one shard per core. Built by clang with
+# CSGFIT_FUZZ=ON, so that the same tree also builds the libFuzzer targets (fuzz/,
+# docs/FUZZING.md), which run after the suite: 30 s each, two at a time.
 run_sanitized_tests() {
   local asan="$build-asan" shard pids=() failed=0
-  cmake -S "$repo" -B "$asan" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
-    -DCSGFIT_SANITIZE=ON -DCSGFIT_BUILD_TESTS=ON -DCSGFIT_BUILD_PYTHON=OFF >/dev/null
-  cmake --build "$asan" -j "$jobs" --target csgfit_tests csgfit
+  # A tree that another compiler configured (gcc, before the fuzz targets) is started afresh.
+  if [ -f "$asan/CMakeCache.txt" ] && ! grep -q '^CSGFIT_FUZZ:BOOL=ON' "$asan/CMakeCache.txt"; then
+    rm -rf "$asan"
+  fi
+  cmake -S "$repo" -B "$asan" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Debug \
+    -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DCSGFIT_SANITIZE=ON -DCSGFIT_FUZZ=ON \
+    -DCSGFIT_BUILD_TESTS=ON -DCSGFIT_BUILD_PYTHON=OFF >/dev/null
+  cmake --build "$asan" -j "$jobs" --target csgfit_tests csgfit csgfit_fuzz
   for ((shard = 0; shard < jobs; shard++)); do
     # OpenCASCADE keeps its STEP tables for the life of the process (tests/lsan_occt.supp).
     GTEST_TOTAL_SHARDS=$jobs GTEST_SHARD_INDEX=$shard \
@@ -64,6 +72,8 @@ run_sanitized_tests() {
       failed=1
     fi
   done
+  echo "== fuzz targets under ASan and UBSan (30 s each, two at a time)"
+  CSGFIT_FUZZ_BUILD_DIR="$asan" CSGFIT_FUZZ_JOBS=2 bash "$repo/scripts/fuzz.sh" all 30 || failed=1
   return $failed
 }
 
@@ -76,7 +86,7 @@ run_tests() {
   # FreeCAD's GUI (Qt WebEngine) refuses to start as root without this.
   QTWEBENGINE_DISABLE_SANDBOX=1 CSGFIT_BUILD_DIR="$build" /usr/bin/python3 -m pytest -q "$repo/tests/python" "$repo/tests/freecad" || failed=1
 
-  echo "== C++ tests under AddressSanitizer and UndefinedBehaviorSanitizer"
+  echo "== C++ tests and fuzz targets under AddressSanitizer and UndefinedBehaviorSanitizer"
   run_sanitized_tests || failed=1
 
   if [ $failed -ne 0 ]; then

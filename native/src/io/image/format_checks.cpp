@@ -34,16 +34,39 @@ std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
 
 // Huffman tables (DHT) whose code counts add up to more than 256 symbols make this stb version
 // write past its tables (CVE-2021-37789), so they are refused here first.
-bool jpeg_dht_is_valid(const std::uint8_t* segment, std::size_t length) {
+// `defined` gets a bit per table the segment defines: DC tables 0-3, AC tables 4-7.
+bool jpeg_dht_is_valid(const std::uint8_t* segment, std::size_t length, unsigned* defined) {
   std::size_t pos = 0;
   while (pos < length) {
     if (length - pos < 17) return false;
     const std::uint8_t table = segment[pos];
     if ((table >> 4) > 1 || (table & 15) > 3) return false;
+    *defined |= 1u << ((table >> 4) * 4 + (table & 15));
     std::size_t symbols = 0;
     for (std::size_t i = 1; i <= 16; ++i) symbols += segment[pos + i];
     if (symbols > 256 || length - pos - 17 < symbols) return false;
     pos += 17 + symbols;
+  }
+  return true;
+}
+
+// The Huffman tables a scan (SOS segment) decodes with must have been defined before it: stb
+// reads a table never defined from uninitialised memory, and indexes out of its arrays with it
+// (found by fuzz_jpeg). Progressive scans use only the DC (first DC scans) or the AC tables.
+bool jpeg_scan_tables_defined(const std::uint8_t* segment, std::size_t length, bool progressive,
+                              unsigned defined) {
+  if (length < 1) return false;
+  const std::size_t components = segment[0];
+  if (length < 1 + 2 * components + 3) return false;
+  const std::uint8_t start = segment[1 + 2 * components];
+  const std::uint8_t refine = segment[3 + 2 * components] >> 4;
+  const bool dc = !progressive || (start == 0 && refine == 0);
+  const bool ac = !progressive || start > 0;
+  for (std::size_t i = 0; i < components; ++i) {
+    const unsigned tables = segment[2 + 2 * i];
+    if ((tables >> 4) > 3 || (tables & 15) > 3) return false;
+    if (dc && !((defined >> (tables >> 4)) & 1u)) return false;
+    if (ac && !((defined >> (4 + (tables & 15))) & 1u)) return false;
   }
   return true;
 }
@@ -55,9 +78,13 @@ bool is_png(const std::string& d) {
   return d.size() >= 8 && std::memcmp(d.data(), kSignature, 8) == 0;
 }
 
+// As stb recognises one (its SOI marker may have fill bytes: FF FF D8), so that stb never
+// parses a JPEG that check_jpeg has not seen.
 bool is_jpeg(const std::string& d) {
   const std::uint8_t* u = bytes_of(d);
-  return d.size() >= 3 && u[0] == 0xFF && u[1] == 0xD8 && u[2] == 0xFF;
+  std::size_t i = 1;
+  while (i < d.size() && u[i] == 0xFF) ++i;
+  return d.size() >= 2 && u[0] == 0xFF && i < d.size() && u[i] == 0xD8;
 }
 
 bool is_bmp(const std::string& d) { return d.size() >= 2 && d[0] == 'B' && d[1] == 'M'; }
@@ -97,6 +124,8 @@ JpegCheck check_jpeg(const std::string& d) {
   const std::uint8_t* u = bytes_of(d);
   const std::size_t n = d.size();
   std::size_t pos = 2;
+  unsigned tables = 0;  // the Huffman tables defined so far (jpeg_dht_is_valid)
+  bool progressive = false;
   for (;;) {
     while (pos < n && u[pos] != 0xFF) ++pos;  // entropy-coded data between markers
     while (pos < n && u[pos] == 0xFF) ++pos;  // fill bytes
@@ -108,7 +137,13 @@ JpegCheck check_jpeg(const std::string& d) {
     if (pos + 2 > n) return JpegCheck::kTruncated;
     const std::size_t length = (std::size_t{u[pos]} << 8) | u[pos + 1];
     if (length < 2 || pos + length > n) return JpegCheck::kTruncated;
-    if (marker == 0xC4 && !jpeg_dht_is_valid(u + pos + 2, length - 2)) return JpegCheck::kUnsafe;
+    if (marker == 0xC4 && !jpeg_dht_is_valid(u + pos + 2, length - 2, &tables)) {
+      return JpegCheck::kUnsafe;
+    }
+    if (marker == 0xC2) progressive = true;
+    if (marker == 0xDA && !jpeg_scan_tables_defined(u + pos + 2, length - 2, progressive, tables)) {
+      return JpegCheck::kUnsafe;
+    }
     pos += length;
   }
 }

@@ -24,7 +24,8 @@ bool png_is_complete(const std::string& d, std::vector<std::uint8_t>* cleaned);
 
 enum class JpegCheck { kComplete, kTruncated, kUnsafe };
 
-/// A complete JPEG ends its last scan with an EOI marker; kUnsafe for Huffman tables that
+/// A complete JPEG ends its last scan with an EOI marker; kUnsafe for a scan that uses a
+/// Huffman table never defined (stb would read it uninitialised), or for Huffman tables that
 /// would make this stb version write past its tables (CVE-2021-37789).
 JpegCheck check_jpeg(const std::string& d);
 

@@ -82,9 +82,10 @@ ImageHeader read_header(const std::string& path, const std::string& file) {
            " is a run-length compressed BMP, which is not supported (save it "
            "uncompressed or as PNG)");
     }
-    // stbi_info already parses the JPEG tables, so the unsafe ones must be refused before.
+    // stbi_info already parses the JPEG tables, so the unsafe ones must be refused before,
+    // and so must a cut one: stb reads the tables of a segment cut short too (fuzz/).
     if (h.format == Format::kJpeg) h.jpeg_check = check_jpeg(file);
-    if (h.jpeg_check == JpegCheck::kUnsafe) fail_not_an_image(path);
+    if (h.jpeg_check != JpegCheck::kComplete) fail_not_an_image(path);
     if (!stb_dimensions(bytes, static_cast<int>(file.size()), &h.width, &h.height)) {
       fail_not_an_image(path);
     }

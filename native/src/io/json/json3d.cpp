@@ -151,7 +151,7 @@ Node3D node3d_from_json(const ojson& j, const std::string& where, int depth) {
 ojson parse(const std::string& text) {
   try {
     return ojson::parse(text);
-  } catch (const ojson::parse_error& e) {
+  } catch (const ojson::exception& e) {  // parse errors, and numbers beyond a double (fuzz/)
     throw InputError(std::string("JSON: not valid JSON (") + e.what() + ")");
   }
 }

@@ -30,6 +30,9 @@ PlyLayout find_layout(const std::string& path, const std::vector<PlyElement>& el
                       const MeshReadOptions& options) {
   PlyLayout l;
   for (const PlyElement& e : elements) {
+    if ((e.name == "vertex" && l.vertex_el) || (e.name == "face" && l.face_el)) {
+      fail(quoted(path) + ": PLY header declares more than one " + e.name + " element");
+    }
     if (e.name == "vertex") {
       l.vertex_el = &e;
       for (std::size_t i = 0; i < e.properties.size(); ++i) {

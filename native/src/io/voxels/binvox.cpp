@@ -85,6 +85,13 @@ VoxelGrid read_binvox(const std::string& path, const std::string& d,
     }
     total *= s;
   }
+  // A (value, count) pair covers at most 255 voxels: data too short to fill the grid is
+  // refused before the grid is allocated.
+  const unsigned long long pairs = (d.size() - std::min(h.body, d.size())) / 2;
+  if (pairs * 255 < total) {
+    fail(quoted(path) + " is truncated: its run-length data covers at most " +
+         std::to_string(pairs * 255) + " of " + std::to_string(total) + " voxels");
+  }
   // binvox: "dim depth height width"; the x index is the most significant, then z, then y
   // (y runs fastest): index = (x * dz + z) * dy + y.
   const unsigned long long nx = dims[0], nz = dims[1], ny = dims[2];

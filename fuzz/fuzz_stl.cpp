@@ -1,0 +1,9 @@
+// STL (ASCII and binary) in memory: io_detail::read_stl, what read_mesh calls for a .stl file.
+#include "fuzz_target.h"
+#include "io/mesh/formats.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string d = csgfit_fuzz::as_text(data, size);
+  csgfit::MeshReadInfo info;
+  return csgfit_fuzz::run([&] { csgfit::io_detail::read_stl("fuzz.stl", d, {}, &info); });
+}
