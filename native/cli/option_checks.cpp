@@ -1,6 +1,5 @@
 #include "option_checks.h"
 
-#include <cerrno>
 #include <cstdlib>
 #include <string>
 
@@ -11,11 +10,20 @@ namespace csgfit::cli {
 
 namespace {
 
-// The validators see the text as typed; what they return is the whole message after "--name: ".
-std::string shown(const std::string& text) {
-  std::string out;
-  for (char c : text.substr(0, 24)) out += (c >= 0x20 && c < 0x7f) ? c : '?';
-  return text.size() > 24 ? out + "..." : out;
+// A validator that runs `parse` (which throws InputError naming "" as the option) and returns its
+// message without that empty name: CLI11 puts "--name: " before it.
+template <class Parse>
+CLI::Validator refusals_of(Parse parse) {
+  return CLI::Validator(
+      [parse](std::string& text) -> std::string {
+        try {
+          parse(text);
+          return {};
+        } catch (const InputError& e) {
+          return std::string(e.what()).substr(1);
+        }
+      },
+      "");
 }
 
 }  // namespace
@@ -23,27 +31,18 @@ std::string shown(const std::string& text) {
 CLI::Validator obeys(const NumberRule& rule) {
   return CLI::Validator(
       [rule](std::string& text) -> std::string {
-        errno = 0;
         char* end = nullptr;
         const double value = std::strtod(text.c_str(), &end);
         if (end == text.c_str() || *end != '\0')
-          return std::string("must be ") + rule.what + ", not '" + shown(text) + "'";
+          return std::string("must be ") + rule.what + ", not '" + printable_message(text, 24) +
+                 "'";
         return rule_violation(rule, value);
       },
       "");
 }
 
 CLI::Validator seed_check() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        try {
-          parse_seed("", text);
-          return {};
-        } catch (const InputError& e) {
-          return std::string(e.what()).substr(1);  // after the empty name's space
-        }
-      },
-      "");
+  return refusals_of([](const std::string& text) { parse_seed("", text); });
 }
 
 void add_memory_option(CLI::App& command) {
@@ -56,16 +55,7 @@ void add_memory_option(CLI::App& command) {
           "refuse inputs and options whose buffers would need more than this (bytes, or with "
           "K, M, G, T; default: half of the machine's memory, " +
               byte_text(static_cast<double>(default_memory_budget())) + " here)")
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            try {
-              parse_memory_size("", text);
-              return {};
-            } catch (const InputError& e) {
-              return std::string(e.what()).substr(1);
-            }
-          },
-          ""));
+      ->check(refusals_of([](const std::string& text) { parse_memory_size("", text); }));
 }
 
 }  // namespace csgfit::cli

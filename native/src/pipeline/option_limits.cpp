@@ -24,13 +24,6 @@ std::string range_text(const NumberRule& rule) {
   return (rule.lo_open ? "(" : "[") + number_text(rule.lo) + ", " + number_text(rule.hi) + "]";
 }
 
-// The user's text in a message: printable ASCII, cut short.
-std::string shown(const std::string& text) {
-  std::string out;
-  for (char c : text.substr(0, 24)) out += (c >= 0x20 && c < 0x7f) ? c : '?';
-  return text.size() > 24 ? out + "..." : out;
-}
-
 }  // namespace
 
 std::string rule_violation(const NumberRule& rule, double value) {
@@ -48,25 +41,20 @@ void check_option(const std::string& name, double value, const NumberRule& rule)
 }
 
 double parse_memory_size(const std::string& name, const std::string& text) {
+  const std::string quoted = "'" + printable_message(text, 24) + "'";
   errno = 0;
   char* end = nullptr;
   double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || errno == ERANGE)
-    throw InputError(name + " must be a size such as 4G or 512M, not '" + shown(text) + "'");
   const std::string unit = end;
   const char* const units[] = {"", "K", "M", "G", "T"};
-  bool known = false;
-  for (int i = 0; i < 5 && !known; ++i) {
-    if (unit == units[i] || (i > 0 && unit == std::string(units[i]) + "B")) {
-      value *= std::pow(1024.0, i);
-      known = true;
-    }
-  }
-  if (!known)
-    throw InputError(name + " must be a size such as 4G or 512M, not '" + shown(text) + "'");
-  value = std::floor(value);
+  int power = -1;
+  for (int i = 0; i < 5 && power < 0; ++i)
+    if (unit == units[i] || (i > 0 && unit == std::string(units[i]) + "B")) power = i;
+  if (end == text.c_str() || errno == ERANGE || power < 0)
+    throw InputError(name + " must be a size such as 4G or 512M, not " + quoted);
+  value = std::floor(value * std::pow(1024.0, power));
   if (!rule_violation(option_rules::memory, value).empty())
-    throw InputError(name + " must be a size from 16M to 1024T, not '" + shown(text) + "'");
+    throw InputError(name + " must be a size from 16M to 1024T, not " + quoted);
   return value;
 }
 
@@ -77,7 +65,7 @@ unsigned long long parse_seed(const std::string& name, const std::string& text) 
   const unsigned long long seed = digits ? std::strtoull(text.c_str(), nullptr, 10) : 0;
   if (!digits || errno == ERANGE)
     throw InputError(name + " must be a seed, an integer in 0 .. 18446744073709551615, not '" +
-                     shown(text) + "'");
+                     printable_message(text, 24) + "'");
   return seed;
 }
 
