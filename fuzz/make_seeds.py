@@ -263,6 +263,42 @@ def documents():
     put("range_sidecar", "minimal.json", '{"projection": "orthographic", "pixel_size": 1}')
 
 
+# --- OpenSCAD CSG programs ------------------------------------------------------------------
+
+def openscad_programs():
+    # OpenSCAD 2021 output (openscad -o x.csg) for every construct, a benchmark solution, and syntax.
+    put("openscad_csg", 'every_construct.csg', 'union() {\n\tcube(size = [1, 2, 3], center = true);\n\tsphere($fn = 8, $fa = 12, $fs = 2, r = 2);\n}\ndifference() {\n\tcylinder($fn = 0, $fa = 12, $fs = 2, h = 3, r1 = 1, r2 = 0.5, center = true);\n\tmultmatrix([[1, 0, 0, 1], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) {\n\t\tmultmatrix([[0.866025, -0.5, 0, 0], [0.5, 0.866025, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) {\n\t\t\tmultmatrix([[1, 0, 0, 0], [0, 2, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) {\n\t\t\t\tmultmatrix([[-1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) {\n\t\t\t\t\tcube(size = [1, 1, 1], center = false);\n\t\t\t\t}\n\t\t\t}\n\t\t}\n\t}\n}\nintersection() {\n\tsphere($fn = 0, $fa = 12, $fs = 2, r = 1);\n\tcube(size = [1, 1, 1], center = false);\n}\ncolor([1, 0, 0, 0.5]) {\n\tcube(size = [1, 1, 1], center = false);\n}\ncolor([0.1, 0.2, 0.3, 1]) {\n\tcube(size = [1, 1, 1], center = false);\n}\nrender(convexity = 2) {\n\tcube(size = [1, 1, 1], center = false);\n}\nlinear_extrude(height = 2, center = true, convexity = 1, twist = 30, slices = 4, scale = [0.5, 0.5]) {\n\tcircle($fn = 0, $fa = 12, $fs = 2, r = 1);\n}\nrotate_extrude(angle = 90, convexity = 2, $fn = 0, $fa = 12, $fs = 2) {\n\tmultmatrix([[1, 0, 0, 2], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) {\n\t\tsquare(size = [1, 2], center = true);\n\t}\n}\nlinear_extrude(height = 1, center = false, convexity = 1, scale = [1, 1], $fn = 0, $fa = 12, $fs = 2) {\n\tpolygon(points = [[0, 0], [1, 0], [0, 1]], paths = [[0, 1, 2]], convexity = 1);\n}\nhull() {\n\tcube(size = [1, 1, 1], center = false);\n\tmultmatrix([[1, 0, 0, 2], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) {\n\t\tsphere($fn = 0, $fa = 12, $fs = 2, r = 1);\n\t}\n}\nminkowski(convexity = 0) {\n\tcube(size = [1, 1, 1], center = false);\n\tsphere($fn = 0, $fa = 12, $fs = 2, r = 0.1);\n}\npolyhedron(points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], faces = [[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]], convexity = 1);\nlinear_extrude(height = 1, center = false, convexity = 1, scale = [1, 1], $fn = 0, $fa = 12, $fs = 2) {\n\ttext(text = "a"b\\c\td", size = 3, spacing = 1, font = "", direction = "ltr", language = "en", script = "Latn", halign = "left", valign = "baseline", $fn = 0, $fa = 12, $fs = 2);\n}\nlinear_extrude(height = 1, center = false, convexity = 1, scale = [1, 1], $fn = 0, $fa = 12, $fs = 2) {\n\toffset(r = 0.5, $fn = 0, $fa = 12, $fs = 2) {\n\t\tsquare(size = [1, 1], center = false);\n\t}\n}\nprojection(cut = true, convexity = 0) {\n\tcube(size = [1, 1, 1], center = false);\n}\nsurface(file = "x.dat", center = false, invert = false, timestamp = 0);\nimport(file = "x.stl", layer = "", origin = [0, 0], scale = 1, convexity = 1, $fn = 0, $fa = 12, $fs = 2, timestamp = 0);\ngroup() {\n\tcube(size = [1e-05, 1e-05, 1e-05], center = false);\n}\ncube(size = [-0, -0, -0], center = false);\n\n')
+    put("openscad_csg", 'inversecsg_011.csg', 'intersection() {\n\tmultmatrix([[1, 0, 0, -0.504], [0, 1, 0, -0.504], [0, 0, 1, -6], [0, 0, 0, 1]]) {\n\t\tcube(size = [1.008, 1.009, 12], center = false);\n\t}\n\tunion() {\n\t\tdifference() {\n\t\t\tmultmatrix([[1, 0, 0, -0.002], [0, 1, 0, 0.001], [0, 0, 1, 4.488], [0, 0, 0, 1]]) {\n\t\t\t\tcylinder($fn = 12, $fa = 12, $fs = 2, h = 0.512, r1 = 0.42, r2 = 0.42, center = false);\n\t\t\t}\n\t\t\tmultmatrix([[1, 0, 0, -0.001], [0, 1, 0, 0], [0, 0, 1, -18.1], [0, 0, 0, 1]]) {\n\t\t\t\tcylinder($fn = 12, $fa = 12, $fs = 2, h = 36.2, r1 = 0.261, r2 = 0.261, center = false);\n\t\t\t}\n\t\t}\n\t\tmultmatrix([[1, 0, 0, -0.001], [0, 1, 0, 0], [0, 0, 1, -5], [0, 0, 0, 1]]) {\n\t\t\tcylinder($fn = 12, $fa = 12, $fs = 2, h = 9.756, r1 = 0.261, r2 = 0.261, center = false);\n\t\t}\n\t}\n}\n\n')
+    put("openscad_csg", 'syntax.csg', 'multmatrix([[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]) cube(size = [1e-05, -0, 2]);\n// c\n/* b */ group() { ; }\ntext(text = "a\\"b\\\\c", size = 3);\n')
+
+    put("openscad_csg", "lock.csg", """multmatrix([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) {
+\tdifference() {
+\t\tintersection() {
+\t\t\tcube(size = [10, 10, 10], center = true);
+\t\t\tsphere($fn = 60, $fa = 12, $fs = 2, r = 6.25);
+\t\t}
+\t\tunion() {
+\t\t\tmultmatrix([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]]) {
+\t\t\t\tcylinder($fn = 60, $fa = 12, $fs = 2, h = 15, r1 = 2.5, r2 = 2.5, center = true);
+\t\t\t}
+\t\t\tcylinder($fn = 60, $fa = 12, $fs = 2, h = 15, r1 = 2.5, r2 = 2.5, center = true);
+\t\t}
+\t}
+}
+""")
+    put("openscad_csg", "extrusions.csg", """group() {
+\tlinear_extrude(height = 10, center = false, convexity = 1, twist = 30, slices = 5, scale = [1, 0.5]) {
+\t\tdifference() { square(size = [4, 2], center = true); circle($fn = 0, $fa = 12, $fs = 2, r = 0.5); }
+\t}
+\trotate_extrude(angle = 270, convexity = 2, $fn = 0, $fa = 12, $fs = 2) {
+\t\tpolygon(points = [[1, 0], [2, 0], [2, 1]], paths = [[0, 1, 2]], convexity = 1);
+\t}
+\tcolor([1, 0, 0, 1]) render(convexity = 2) hull() { cube(size = 1); sphere(r = 1); }
+\ttext(text = "a\\"b", size = 10, font = "", halign = "left", valign = "baseline", spacing = 1);
+}
+""")
+
+
 # --- range inputs ---------------------------------------------------------------------------
 
 def ranges():
@@ -299,3 +335,4 @@ if __name__ == "__main__":
     voxels()
     documents()
     ranges()
+    openscad_programs()

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -13,11 +14,14 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <chrono>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "csgfit/error.h"
 #include "csgfit/io/openscad_csg.h"
+#include "io/input_file.h"
 
 extern char** environ;
 
@@ -66,6 +70,8 @@ class TempDir {
   std::string path_;
 };
 
+constexpr int kFlattenSeconds = 120;
+
 // Runs argv[0] with stdin from /dev/null and stdout and stderr into `log`; the exit status,
 // or -1 when it did not exit normally.
 int run(const std::vector<std::string>& args, const std::string& log) {
@@ -81,18 +87,33 @@ int run(const std::vector<std::string>& args, const std::string& log) {
   const int err = ::posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (err != 0) throw InputError("cannot run " + args[0] + ": " + std::strerror(err));
+  // A .scad can loop forever; flattening is quick for any real program, so a run past the
+  // limit is stopped and reported, not waited for.
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kFlattenSeconds);
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) return -1;
+    if (std::chrono::steady_clock::now() > deadline) {
+      ::kill(pid, SIGKILL);
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      throw InputError(args.back() + ": OpenSCAD did not finish flattening it within " +
+                       std::to_string(kFlattenSeconds) + " s");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::string read_file(const std::string& path) {
+// The log's first megabyte: where OpenSCAD's reason is (a program can echo without end).
+std::string read_log(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
+  std::string text(1 << 20, '\0');
+  f.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(f.gcount()));
+  return text;
 }
 
 // OpenSCAD's reason in its log: the first ERROR line, else the first warning about parsing,
@@ -131,11 +152,12 @@ std::string flatten_scad_with_openscad(const std::string& scad_path) {
   const int status = run({openscad, "-o", out, in}, log);
   struct stat out_st {};
   if (status != 0 || ::stat(out.c_str(), &out_st) != 0) {
-    std::string why = reason(read_file(log));
+    std::string why = reason(read_log(log));
     if (why.empty()) why = "it exited with status " + std::to_string(status);
     throw InputError("OpenSCAD cannot flatten " + quoted(scad_path) + ": " + why);
   }
-  return read_file(out);
+  return io_detail::read_whole_file(out, 512LL << 20, "too large a flattened program",
+                                    io_detail::FileContent::Text);
 }
 
 }  // namespace csgfit
