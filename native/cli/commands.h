@@ -39,4 +39,9 @@ Command add_mesh_command(CLI::App& app);
 /// csgfit range: range images or point clouds to a 3D CSG tree (seed 002).
 Command add_range_command(CLI::App& app);
 
+/// csgfit optimize: a CSG tree to a smaller one of the same solid (seed 001).
+Command add_optimize_command(CLI::App& app);
+/// csgfit inflate: seed 001's redundancy generator.
+Command add_inflate_command(CLI::App& app);
+
 }  // namespace csgfit::cli

@@ -19,6 +19,8 @@ void add_fit_args(CLI::App& command, FitArgs& args, const FitArgsHelp& help) {
   command.add_option("--primitives", args.primitives, help.primitives);
   command.add_option("--fn", args.fn, help.fn)->check(obeys(option_rules::fn));
   command.add_flag("-q,--quiet", args.quiet, help.quiet);
+  command.add_flag("--no-optimize", args.no_optimize,
+                   "skip the last stage, seed 001's tree optimiser (csgfit optimize)");
   add_memory_option(command);
 }
 

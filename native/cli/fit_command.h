@@ -22,6 +22,7 @@ struct FitArgs {
   std::string primitives;
   int fn = 96;
   bool quiet = false;
+  bool no_optimize = false;
 };
 
 /// The help texts that differ from one fitting command to the other.
@@ -51,6 +52,7 @@ Options fit_options(const FitArgs& args) {
   options.time_limit = args.time_limit;
   options.threads = args.threads;
   options.seed = args.seed;
+  options.optimize_tree = !args.no_optimize;
   return options;
 }
 

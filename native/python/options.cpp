@@ -109,7 +109,8 @@ const csgfit::NumberRule& rule_named(const std::string& name) {
       {"resolution", &r::resolution}, {"image_side", &r::image_side},
       {"pixel_count", &r::pixel_count}, {"alternatives", &r::alternatives},
       {"threshold", &r::threshold}, {"focal_length", &r::focal_length},
-      {"principal_point", &r::principal_point}};
+      {"principal_point", &r::principal_point}, {"weight", &r::weight},
+      {"inflate_steps", &r::inflate_steps}};
   for (const auto& [key, rule] : rules)
     if (name == key) return *rule;
   throw std::logic_error("no option rule named " + name);

@@ -12,6 +12,7 @@
 
 #include "csgfit/eval/evaluator2d.h"
 #include "csgfit/features/features2d.h"
+#include "optimize_last.h"
 #include "csgfit/optimise/prune.h"
 #include "csgfit/optimise/snap2d.h"
 #include "csgfit/refine/local_opt.h"
@@ -204,6 +205,10 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
   result.height = target.height();
   result.tree = best.tree;
   result.stats = stats_of(best, target, pb.k);
+  if (options.optimize_tree)
+    optimize_last(result.tree, result.stats, options.seed, [&](const Node& a, const Node& b) {
+      return render(a, target.width(), target.height()) == render(b, target.width(), target.height());
+    });
   result.stats.evaluations = evaluations;
   result.stats.trees = found.trees;
   result.stats.seconds = elapsed();

@@ -12,6 +12,7 @@
 #include "csgfit/eval/evaluator3d.h"
 #include "csgfit/features/mesh_features.h"
 #include "csgfit/model/voxelize.h"
+#include "optimize_last.h"
 #include "csgfit/optimise/snap3d.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/refine/surface_fit3d.h"
@@ -223,6 +224,7 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
   const bool polish_fine =
       mesh_options.polish_share > 0 && h.fine > 0 && h.fine < 0.8 * coarse.voxel_size();
   FitOptions3D search = options;
+  search.optimize_tree = false;  // here, after the polish below
   // The refinement against surface samples needs its own share of the time, a fine polish more.
   const double share = std::clamp(
       polish_fine ? mesh_options.polish_share : 0.5 * mesh_options.polish_share, 0.0, 0.9);
@@ -236,6 +238,9 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
     const auto deadline = at_fraction(start, options.time_limit, 0.98);
     polish(out, local.mesh, coarse, vopt, polish_fine ? h.fine : 0, options.seed, deadline);
   }
+  if (options.optimize_tree)  // in the grid's frame, where its raster is the fit's
+    optimize_last(out.fit.tree, out.fit.stats, options.seed,
+                  [&](const Node3D& a, const Node3D& b) { return render(a, coarse) == render(b, coarse); });
   rotate_tree(out.fit.tree, out.frame);
   out.fit.stats.seconds = elapsed();
   return out;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "csgfit/eval/evaluator3d.h"
+#include "optimize_last.h"
 #include "csgfit/optimise/prune.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose3d.h"
@@ -140,6 +141,9 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
   s.trees = found.trees;
   s.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   s.stop_reason = found.stop_reason;
+  if (options.optimize_tree)
+    optimize_last(result.tree, s, options.seed,
+                  [&](const Node3D& a, const Node3D& b) { return render(a, target) == render(b, target); });
   return result;
 }
 

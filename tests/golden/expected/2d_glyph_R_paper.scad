@@ -14,19 +14,19 @@ ellipse_1_rx = 22.25; // [0:0.1:200]
 ellipse_1_ry = 28.012; // [0:0.1:200]
 ellipse_1_angle = 110; // [0:0.1:360]
 
-/* [Triangle 2] */
-tri_2_cx = 49.1247; // [0:0.1:200]
-tri_2_cy = 84; // [0:0.1:200]
-tri_2_w = 34.7675; // [0:0.1:200]
-tri_2_h = 29.9128; // [0:0.1:200]
-tri_2_angle = 270; // [0:0.1:360]
-tri_2_apex = -1; // [-4:0.01:4]
+/* [Rectangle 2] */
+rect_2_cx = 63; // [0:0.1:200]
+rect_2_cy = 78; // [0:0.1:200]
+rect_2_w = 18; // [0:0.1:200]
+rect_2_h = 18; // [0:0.1:200]
 
-/* [Rectangle 3] */
-rect_3_cx = 63; // [0:0.1:200]
-rect_3_cy = 78; // [0:0.1:200]
-rect_3_w = 18; // [0:0.1:200]
-rect_3_h = 18; // [0:0.1:200]
+/* [Triangle 3] */
+tri_3_cx = 49.1247; // [0:0.1:200]
+tri_3_cy = 84; // [0:0.1:200]
+tri_3_w = 34.7675; // [0:0.1:200]
+tri_3_h = 29.9128; // [0:0.1:200]
+tri_3_angle = 270; // [0:0.1:360]
+tri_3_apex = -1; // [-4:0.01:4]
 
 /* [Rectangle 4] */
 rect_4_cx = 44; // [0:0.1:200]
@@ -54,12 +54,10 @@ function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 module glyph_r() {
   union() {
     difference() {
-      union() {
-        translate([ellipse_1_cx, ellipse_1_cy]) rotate(ellipse_1_angle) scale([ellipse_1_rx, ellipse_1_ry]) circle(r = fn_r(1));
-        translate([tri_2_cx, tri_2_cy]) rotate(tri_2_angle) polygon([[-tri_2_w / 2, -tri_2_h / 2], [tri_2_w / 2, -tri_2_h / 2], [tri_2_apex * tri_2_w / 2, tri_2_h / 2]]);
-      }
-      translate([rect_3_cx, rect_3_cy]) square([rect_3_w, rect_3_h], center = true);
+      translate([ellipse_1_cx, ellipse_1_cy]) rotate(ellipse_1_angle) scale([ellipse_1_rx, ellipse_1_ry]) circle(r = fn_r(1));
+      translate([rect_2_cx, rect_2_cy]) square([rect_2_w, rect_2_h], center = true);
     }
+    translate([tri_3_cx, tri_3_cy]) rotate(tri_3_angle) polygon([[-tri_3_w / 2, -tri_3_h / 2], [tri_3_w / 2, -tri_3_h / 2], [tri_3_apex * tri_3_w / 2, tri_3_h / 2]]);
     translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
     translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_5_w, rect_5_h], center = true);
   }

@@ -8,21 +8,21 @@
 segments = 96; // [12:1:360]
 
 /* [Rectangle 1] */
-rect_1_cx = 64; // [0:0.1:500]
-rect_1_cy = 112; // [0:0.1:500]
-rect_1_w = 64; // [0:0.1:500]
-rect_1_h = 16; // [0:0.1:500]
+rect_1_cx = 49.5; // [0:0.1:500]
+rect_1_cy = 52; // [0:0.1:500]
+rect_1_w = 179; // [0:0.1:500]
+rect_1_h = 88; // [0:0.1:500]
 
-/* [Rectangle 2] */
-rect_2_cx = 49.5; // [0:0.1:500]
-rect_2_cy = 52; // [0:0.1:500]
-rect_2_w = 179; // [0:0.1:500]
-rect_2_h = 88; // [0:0.1:500]
+/* [Circle 2] */
+circle_2_cx = 63.9363; // [0:0.1:500]
+circle_2_cy = 63.5; // [0:0.1:500]
+circle_2_r = 66; // [0:0.1:500]
 
-/* [Circle 3] */
-circle_3_cx = 63.9363; // [0:0.1:500]
-circle_3_cy = 63.5; // [0:0.1:500]
-circle_3_r = 66; // [0:0.1:500]
+/* [Rectangle 3] */
+rect_3_cx = 64; // [0:0.1:500]
+rect_3_cy = 112; // [0:0.1:500]
+rect_3_w = 64; // [0:0.1:500]
+rect_3_h = 16; // [0:0.1:500]
 
 /* [Rectangle 4] */
 rect_4_cx = 64; // [0:0.1:500]
@@ -54,16 +54,14 @@ function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 module icon_printer() {
   difference() {
     union() {
-      translate([rect_1_cx, rect_1_cy]) square([rect_1_w, rect_1_h], center = true);
-      difference() {
-        intersection() {
-          translate([rect_2_cx, rect_2_cy]) square([rect_2_w, rect_2_h], center = true);
-          translate([circle_3_cx, circle_3_cy]) circle(r = fn_r(circle_3_r));
-        }
-        translate([rect_4_cx, rect_4_cy]) square([rect_4_w, rect_4_h], center = true);
-        translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_5_w, rect_5_h], center = true);
+      intersection() {
+        translate([rect_1_cx, rect_1_cy]) square([rect_1_w, rect_1_h], center = true);
+        translate([circle_2_cx, circle_2_cy]) circle(r = fn_r(circle_2_r));
       }
+      translate([rect_3_cx, rect_3_cy]) square([rect_3_w, rect_3_h], center = true);
     }
+    translate([rect_4_cx, rect_4_cy]) square([rect_4_w, rect_4_h], center = true);
+    translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_5_w, rect_5_h], center = true);
     translate([circle_6_cx, circle_6_cy]) circle(r = fn_r(circle_6_r));
   }
 }

@@ -15,158 +15,158 @@ tri_1_h = 27.9886; // [0:0.1:500]
 tri_1_apex = 0; // [-4:0.01:4]
 
 /* [Rectangle 2] */
-rect_2_cx = 68.5; // [0:0.1:500]
-rect_2_cy = -8.8289; // [-500:0.1:500]
-rect_2_w = 141.5; // [0:0.1:500]
-rect_2_h = 30.2521; // [0:0.1:500]
-rect_2_angle = 0.8279; // [0:0.1:360]
+rect_2_cx = 50.5; // [0:0.1:500]
+rect_2_cy = 27.25; // [0:0.1:500]
+rect_2_w = 3.5; // [0:0.1:500]
+rect_2_h = 68.5; // [0:0.1:500]
+rect_2_angle = 146.6529; // [0:0.1:360]
 
-/* [Ellipse 3] */
-ellipse_3_cx = 16.25; // [0:0.1:500]
-ellipse_3_cy = 20.5; // [0:0.1:500]
-ellipse_3_rx = 22.5; // [0:0.1:500]
-ellipse_3_ry = 6.25; // [0:0.1:500]
-ellipse_3_angle = 41.4704; // [0:0.1:360]
+/* [Triangle 3] */
+tri_3_cx = 97.9173; // [0:0.1:500]
+tri_3_cy = 28.4671; // [0:0.1:500]
+tri_3_w = 16; // [0:0.1:500]
+tri_3_h = 3.5; // [0:0.1:500]
+tri_3_angle = 327.6889; // [0:0.1:360]
+tri_3_apex = 0; // [-4:0.01:4]
 
-/* [Ellipse 4] */
-ellipse_4_cx = 116.3019; // [0:0.1:500]
-ellipse_4_cy = 17.5; // [0:0.1:500]
-ellipse_4_rx = 5.5021; // [0:0.1:500]
-ellipse_4_ry = 25; // [0:0.1:500]
-ellipse_4_angle = 47; // [0:0.1:360]
+/* [Rectangle 4] */
+rect_4_cx = 68.5; // [0:0.1:500]
+rect_4_cy = -8.8289; // [-500:0.1:500]
+rect_4_w = 141.5; // [0:0.1:500]
+rect_4_h = 30.2521; // [0:0.1:500]
+rect_4_angle = 0.8279; // [0:0.1:360]
 
-/* [Rectangle 5] */
-rect_5_cx = 50.5; // [0:0.1:500]
-rect_5_cy = 27.25; // [0:0.1:500]
-rect_5_w = 3.5; // [0:0.1:500]
-rect_5_h = 68.5; // [0:0.1:500]
-rect_5_angle = 146.6529; // [0:0.1:360]
+/* [Ellipse 5] */
+ellipse_5_cx = 16.25; // [0:0.1:500]
+ellipse_5_cy = 20.5; // [0:0.1:500]
+ellipse_5_rx = 22.5; // [0:0.1:500]
+ellipse_5_ry = 6.25; // [0:0.1:500]
+ellipse_5_angle = 41.4704; // [0:0.1:360]
 
-/* [Rectangle 6] */
-rect_6_cx = 77.5; // [0:0.1:500]
-rect_6_cy = 27.25; // [0:0.1:500]
-rect_6_w = 3.5; // [0:0.1:500]
-rect_6_h = 68.5; // [0:0.1:500]
-rect_6_angle = 33.3471; // [0:0.1:360]
+/* [Ellipse 6] */
+ellipse_6_cx = 116.3019; // [0:0.1:500]
+ellipse_6_cy = 17.5; // [0:0.1:500]
+ellipse_6_rx = 5.5021; // [0:0.1:500]
+ellipse_6_ry = 25; // [0:0.1:500]
+ellipse_6_angle = 47; // [0:0.1:360]
 
-/* [Rectangle 7] */
-rect_7_cx = 101.2131; // [0:0.1:500]
-rect_7_cy = 12.1393; // [0:0.1:500]
-rect_7_w = 19; // [0:0.1:500]
-rect_7_h = 3.2152; // [0:0.1:500]
-rect_7_angle = 40; // [0:0.1:360]
+/* [Triangle 7] */
+tri_7_cx = 112.5; // [0:0.1:500]
+tri_7_cy = 10.5; // [0:0.1:500]
+tri_7_w = 10; // [0:0.1:500]
+tri_7_h = 6; // [0:0.1:500]
+tri_7_apex = 2.1; // [-4:0.01:4]
 
-/* [Rectangle 8] */
-rect_8_cx = 27.7167; // [0:0.1:500]
-rect_8_cy = 11.3333; // [0:0.1:500]
-rect_8_w = 18; // [0:0.1:500]
-rect_8_h = 3.3091; // [0:0.1:500]
-rect_8_angle = 141; // [0:0.1:360]
+/* [Triangle 8] */
+tri_8_cx = 43.5394; // [0:0.1:500]
+tri_8_cy = 33.2286; // [0:0.1:500]
+tri_8_w = 16; // [0:0.1:500]
+tri_8_h = 6; // [0:0.1:500]
+tri_8_apex = 0.55; // [-4:0.01:4]
 
 /* [Triangle 9] */
-tri_9_cx = 97.9173; // [0:0.1:500]
-tri_9_cy = 28.4671; // [0:0.1:500]
-tri_9_w = 16; // [0:0.1:500]
-tri_9_h = 3.5; // [0:0.1:500]
-tri_9_angle = 327.6889; // [0:0.1:360]
-tri_9_apex = 0; // [-4:0.01:4]
+tri_9_cx = 84.4606; // [0:0.1:500]
+tri_9_cy = 33.2286; // [0:0.1:500]
+tri_9_w = 15.802; // [0:0.1:500]
+tri_9_h = 6.2912; // [0:0.1:500]
+tri_9_angle = 359.5749; // [0:0.1:360]
+tri_9_apex = -0.55; // [-4:0.01:4]
 
-/* [Triangle 10] */
-tri_10_cx = 19; // [0:0.1:500]
-tri_10_cy = 8.0934; // [0:0.1:500]
-tri_10_w = 16.1398; // [0:0.1:500]
-tri_10_h = 3.9284; // [0:0.1:500]
-tri_10_angle = 356; // [0:0.1:360]
-tri_10_apex = -1; // [-4:0.01:4]
+/* [Rectangle 10] */
+rect_10_cx = 77.5; // [0:0.1:500]
+rect_10_cy = 27.25; // [0:0.1:500]
+rect_10_w = 3.5; // [0:0.1:500]
+rect_10_h = 68.5; // [0:0.1:500]
+rect_10_angle = 33.3471; // [0:0.1:360]
 
-/* [Triangle 11] */
-tri_11_cx = 112.5; // [0:0.1:500]
-tri_11_cy = 10.5; // [0:0.1:500]
-tri_11_w = 10; // [0:0.1:500]
-tri_11_h = 6; // [0:0.1:500]
-tri_11_apex = 2.1; // [-4:0.01:4]
+/* [Rectangle 11] */
+rect_11_cx = 101.2131; // [0:0.1:500]
+rect_11_cy = 12.1393; // [0:0.1:500]
+rect_11_w = 19; // [0:0.1:500]
+rect_11_h = 3.2152; // [0:0.1:500]
+rect_11_angle = 40; // [0:0.1:360]
 
-/* [Ellipse 12] */
-ellipse_12_cx = 38.5; // [0:0.1:500]
-ellipse_12_cy = 3.5; // [0:0.1:500]
-ellipse_12_rx = 5.4193; // [0:0.1:500]
-ellipse_12_ry = 8.5; // [0:0.1:500]
-ellipse_12_angle = 176; // [0:0.1:360]
+/* [Rectangle 12] */
+rect_12_cx = 27.7167; // [0:0.1:500]
+rect_12_cy = 11.3333; // [0:0.1:500]
+rect_12_w = 18; // [0:0.1:500]
+rect_12_h = 3.3091; // [0:0.1:500]
+rect_12_angle = 141; // [0:0.1:360]
 
 /* [Triangle 13] */
-tri_13_cx = 43.5394; // [0:0.1:500]
-tri_13_cy = 33.2286; // [0:0.1:500]
-tri_13_w = 16; // [0:0.1:500]
-tri_13_h = 6; // [0:0.1:500]
-tri_13_apex = 0.55; // [-4:0.01:4]
+tri_13_cx = 19; // [0:0.1:500]
+tri_13_cy = 8.0934; // [0:0.1:500]
+tri_13_w = 16.1398; // [0:0.1:500]
+tri_13_h = 3.9284; // [0:0.1:500]
+tri_13_angle = 356; // [0:0.1:360]
+tri_13_apex = -1; // [-4:0.01:4]
 
-/* [Triangle 14] */
-tri_14_cx = 84.4606; // [0:0.1:500]
-tri_14_cy = 33.2286; // [0:0.1:500]
-tri_14_w = 15.802; // [0:0.1:500]
-tri_14_h = 6.2912; // [0:0.1:500]
-tri_14_angle = 359.5749; // [0:0.1:360]
-tri_14_apex = -0.55; // [-4:0.01:4]
+/* [Ellipse 14] */
+ellipse_14_cx = 38.5; // [0:0.1:500]
+ellipse_14_cy = 3.5; // [0:0.1:500]
+ellipse_14_rx = 5.4193; // [0:0.1:500]
+ellipse_14_ry = 8.5; // [0:0.1:500]
+ellipse_14_angle = 176; // [0:0.1:360]
 
 /* [Rectangle 15] */
-rect_15_cx = 15.66; // [0:0.1:500]
-rect_15_cy = 13.945; // [0:0.1:500]
-rect_15_w = 8; // [0:0.1:500]
-rect_15_h = 3.0218; // [0:0.1:500]
-rect_15_angle = 39; // [0:0.1:360]
+rect_15_cx = 42.4375; // [0:0.1:500]
+rect_15_cy = 39.5; // [0:0.1:500]
+rect_15_w = 8.9617; // [0:0.1:500]
+rect_15_h = 33.5; // [0:0.1:500]
+rect_15_angle = 123; // [0:0.1:360]
 
 /* [Triangle 16] */
-tri_16_cx = 116; // [0:0.1:500]
-tri_16_cy = 5.7034; // [0:0.1:500]
-tri_16_w = 16; // [0:0.1:500]
-tri_16_h = 4.8772; // [0:0.1:500]
-tri_16_angle = 355; // [0:0.1:360]
-tri_16_apex = 0.25; // [-4:0.01:4]
+tri_16_cx = 66.5; // [0:0.1:500]
+tri_16_cy = 41.5; // [0:0.1:500]
+tri_16_w = 23.3806; // [0:0.1:500]
+tri_16_h = 22; // [0:0.1:500]
+tri_16_angle = 275; // [0:0.1:360]
+tri_16_apex = 1.08486; // [-4:0.01:4]
 
-/* [Triangle 17] */
-tri_17_cx = 26.3071; // [0:0.1:500]
-tri_17_cy = 22.0658; // [0:0.1:500]
-tri_17_w = 12.5; // [0:0.1:500]
-tri_17_h = 2.8557; // [0:0.1:500]
-tri_17_angle = 214.6281; // [0:0.1:360]
-tri_17_apex = 0.8; // [-4:0.01:4]
+/* [Ellipse 17] */
+ellipse_17_cx = 91; // [0:0.1:500]
+ellipse_17_cy = 5.5; // [0:0.1:500]
+ellipse_17_rx = 3.8628; // [0:0.1:500]
+ellipse_17_ry = 9; // [0:0.1:500]
+ellipse_17_angle = 30; // [0:0.1:360]
 
 /* [Rectangle 18] */
-rect_18_cx = 42.4375; // [0:0.1:500]
-rect_18_cy = 39.5; // [0:0.1:500]
-rect_18_w = 8.9617; // [0:0.1:500]
-rect_18_h = 33.5; // [0:0.1:500]
-rect_18_angle = 123; // [0:0.1:360]
+rect_18_cx = 15.66; // [0:0.1:500]
+rect_18_cy = 13.945; // [0:0.1:500]
+rect_18_w = 8; // [0:0.1:500]
+rect_18_h = 3.0218; // [0:0.1:500]
+rect_18_angle = 39; // [0:0.1:360]
 
 /* [Triangle 19] */
-tri_19_cx = 66.5; // [0:0.1:500]
-tri_19_cy = 41.5; // [0:0.1:500]
-tri_19_w = 23.3806; // [0:0.1:500]
-tri_19_h = 22; // [0:0.1:500]
-tri_19_angle = 275; // [0:0.1:360]
-tri_19_apex = 1.08486; // [-4:0.01:4]
+tri_19_cx = 116; // [0:0.1:500]
+tri_19_cy = 5.7034; // [0:0.1:500]
+tri_19_w = 16; // [0:0.1:500]
+tri_19_h = 4.8772; // [0:0.1:500]
+tri_19_angle = 355; // [0:0.1:360]
+tri_19_apex = 0.25; // [-4:0.01:4]
 
-/* [Ellipse 20] */
-ellipse_20_cx = 11.75; // [0:0.1:500]
-ellipse_20_cy = 4.5; // [0:0.1:500]
-ellipse_20_rx = 1.5; // [0:0.1:500]
-ellipse_20_ry = 6.25; // [0:0.1:500]
-ellipse_20_angle = 94; // [0:0.1:360]
+/* [Triangle 20] */
+tri_20_cx = 26.3071; // [0:0.1:500]
+tri_20_cy = 22.0658; // [0:0.1:500]
+tri_20_w = 12.5; // [0:0.1:500]
+tri_20_h = 2.8557; // [0:0.1:500]
+tri_20_angle = 214.6281; // [0:0.1:360]
+tri_20_apex = 0.8; // [-4:0.01:4]
 
-/* [Triangle 21] */
-tri_21_cx = 111; // [0:0.1:500]
-tri_21_cy = 14.5; // [0:0.1:500]
-tri_21_w = 14; // [0:0.1:500]
-tri_21_h = 6.5; // [0:0.1:500]
-tri_21_angle = 357; // [0:0.1:360]
-tri_21_apex = 0; // [-4:0.01:4]
+/* [Ellipse 21] */
+ellipse_21_cx = 11.75; // [0:0.1:500]
+ellipse_21_cy = 4.5; // [0:0.1:500]
+ellipse_21_rx = 1.5; // [0:0.1:500]
+ellipse_21_ry = 6.25; // [0:0.1:500]
+ellipse_21_angle = 94; // [0:0.1:360]
 
-/* [Ellipse 22] */
-ellipse_22_cx = 91; // [0:0.1:500]
-ellipse_22_cy = 5.5; // [0:0.1:500]
-ellipse_22_rx = 3.8628; // [0:0.1:500]
-ellipse_22_ry = 9; // [0:0.1:500]
-ellipse_22_angle = 30; // [0:0.1:360]
+/* [Triangle 22] */
+tri_22_cx = 111; // [0:0.1:500]
+tri_22_cy = 14.5; // [0:0.1:500]
+tri_22_w = 14; // [0:0.1:500]
+tri_22_h = 6.5; // [0:0.1:500]
+tri_22_angle = 357; // [0:0.1:360]
+tri_22_apex = 0; // [-4:0.01:4]
 
 /* [Hidden] */
 // Pixel size of the source image in mm; the dimensions above are already in mm.
@@ -178,37 +178,35 @@ $fn = segments;
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
 module topopt_mbb_beam() {
-  union() {
-    difference() {
-      union() {
-        difference() {
-          union() {
-            translate([tri_1_cx, tri_1_cy]) polygon([[-tri_1_w / 2, -tri_1_h / 2], [tri_1_w / 2, -tri_1_h / 2], [tri_1_apex * tri_1_w / 2, tri_1_h / 2]]);
-            translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_2_w, rect_2_h], center = true);
-            translate([ellipse_3_cx, ellipse_3_cy]) rotate(ellipse_3_angle) scale([ellipse_3_rx, ellipse_3_ry]) circle(r = fn_r(1));
-            translate([ellipse_4_cx, ellipse_4_cy]) rotate(ellipse_4_angle) scale([ellipse_4_rx, ellipse_4_ry]) circle(r = fn_r(1));
-            translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_5_w, rect_5_h], center = true);
-            translate([rect_6_cx, rect_6_cy]) rotate(rect_6_angle) square([rect_6_w, rect_6_h], center = true);
-            translate([rect_7_cx, rect_7_cy]) rotate(rect_7_angle) square([rect_7_w, rect_7_h], center = true);
-            translate([rect_8_cx, rect_8_cy]) rotate(rect_8_angle) square([rect_8_w, rect_8_h], center = true);
-            translate([tri_9_cx, tri_9_cy]) rotate(tri_9_angle) polygon([[-tri_9_w / 2, -tri_9_h / 2], [tri_9_w / 2, -tri_9_h / 2], [tri_9_apex * tri_9_w / 2, tri_9_h / 2]]);
-            translate([tri_10_cx, tri_10_cy]) rotate(tri_10_angle) polygon([[-tri_10_w / 2, -tri_10_h / 2], [tri_10_w / 2, -tri_10_h / 2], [tri_10_apex * tri_10_w / 2, tri_10_h / 2]]);
-            translate([tri_11_cx, tri_11_cy]) polygon([[-tri_11_w / 2, -tri_11_h / 2], [tri_11_w / 2, -tri_11_h / 2], [tri_11_apex * tri_11_w / 2, tri_11_h / 2]]);
-            translate([ellipse_12_cx, ellipse_12_cy]) rotate(ellipse_12_angle) scale([ellipse_12_rx, ellipse_12_ry]) circle(r = fn_r(1));
-          }
-          translate([tri_13_cx, tri_13_cy]) polygon([[-tri_13_w / 2, -tri_13_h / 2], [tri_13_w / 2, -tri_13_h / 2], [tri_13_apex * tri_13_w / 2, tri_13_h / 2]]);
-          translate([tri_14_cx, tri_14_cy]) rotate(tri_14_angle) polygon([[-tri_14_w / 2, -tri_14_h / 2], [tri_14_w / 2, -tri_14_h / 2], [tri_14_apex * tri_14_w / 2, tri_14_h / 2]]);
-          translate([rect_15_cx, rect_15_cy]) rotate(rect_15_angle) square([rect_15_w, rect_15_h], center = true);
-          translate([tri_16_cx, tri_16_cy]) rotate(tri_16_angle) polygon([[-tri_16_w / 2, -tri_16_h / 2], [tri_16_w / 2, -tri_16_h / 2], [tri_16_apex * tri_16_w / 2, tri_16_h / 2]]);
-          translate([tri_17_cx, tri_17_cy]) rotate(tri_17_angle) polygon([[-tri_17_w / 2, -tri_17_h / 2], [tri_17_w / 2, -tri_17_h / 2], [tri_17_apex * tri_17_w / 2, tri_17_h / 2]]);
+  difference() {
+    union() {
+      difference() {
+        union() {
+          translate([tri_1_cx, tri_1_cy]) polygon([[-tri_1_w / 2, -tri_1_h / 2], [tri_1_w / 2, -tri_1_h / 2], [tri_1_apex * tri_1_w / 2, tri_1_h / 2]]);
+          translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_2_w, rect_2_h], center = true);
+          translate([tri_3_cx, tri_3_cy]) rotate(tri_3_angle) polygon([[-tri_3_w / 2, -tri_3_h / 2], [tri_3_w / 2, -tri_3_h / 2], [tri_3_apex * tri_3_w / 2, tri_3_h / 2]]);
+          translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
+          translate([ellipse_5_cx, ellipse_5_cy]) rotate(ellipse_5_angle) scale([ellipse_5_rx, ellipse_5_ry]) circle(r = fn_r(1));
+          translate([ellipse_6_cx, ellipse_6_cy]) rotate(ellipse_6_angle) scale([ellipse_6_rx, ellipse_6_ry]) circle(r = fn_r(1));
+          translate([tri_7_cx, tri_7_cy]) polygon([[-tri_7_w / 2, -tri_7_h / 2], [tri_7_w / 2, -tri_7_h / 2], [tri_7_apex * tri_7_w / 2, tri_7_h / 2]]);
         }
-        translate([rect_18_cx, rect_18_cy]) rotate(rect_18_angle) square([rect_18_w, rect_18_h], center = true);
-        translate([tri_19_cx, tri_19_cy]) rotate(tri_19_angle) polygon([[-tri_19_w / 2, -tri_19_h / 2], [tri_19_w / 2, -tri_19_h / 2], [tri_19_apex * tri_19_w / 2, tri_19_h / 2]]);
+        translate([tri_8_cx, tri_8_cy]) polygon([[-tri_8_w / 2, -tri_8_h / 2], [tri_8_w / 2, -tri_8_h / 2], [tri_8_apex * tri_8_w / 2, tri_8_h / 2]]);
+        translate([tri_9_cx, tri_9_cy]) rotate(tri_9_angle) polygon([[-tri_9_w / 2, -tri_9_h / 2], [tri_9_w / 2, -tri_9_h / 2], [tri_9_apex * tri_9_w / 2, tri_9_h / 2]]);
       }
-      translate([ellipse_20_cx, ellipse_20_cy]) rotate(ellipse_20_angle) scale([ellipse_20_rx, ellipse_20_ry]) circle(r = fn_r(1));
-      translate([tri_21_cx, tri_21_cy]) rotate(tri_21_angle) polygon([[-tri_21_w / 2, -tri_21_h / 2], [tri_21_w / 2, -tri_21_h / 2], [tri_21_apex * tri_21_w / 2, tri_21_h / 2]]);
+      translate([rect_10_cx, rect_10_cy]) rotate(rect_10_angle) square([rect_10_w, rect_10_h], center = true);
+      translate([rect_11_cx, rect_11_cy]) rotate(rect_11_angle) square([rect_11_w, rect_11_h], center = true);
+      translate([rect_12_cx, rect_12_cy]) rotate(rect_12_angle) square([rect_12_w, rect_12_h], center = true);
+      translate([tri_13_cx, tri_13_cy]) rotate(tri_13_angle) polygon([[-tri_13_w / 2, -tri_13_h / 2], [tri_13_w / 2, -tri_13_h / 2], [tri_13_apex * tri_13_w / 2, tri_13_h / 2]]);
+      translate([ellipse_14_cx, ellipse_14_cy]) rotate(ellipse_14_angle) scale([ellipse_14_rx, ellipse_14_ry]) circle(r = fn_r(1));
+      translate([rect_15_cx, rect_15_cy]) rotate(rect_15_angle) square([rect_15_w, rect_15_h], center = true);
+      translate([tri_16_cx, tri_16_cy]) rotate(tri_16_angle) polygon([[-tri_16_w / 2, -tri_16_h / 2], [tri_16_w / 2, -tri_16_h / 2], [tri_16_apex * tri_16_w / 2, tri_16_h / 2]]);
+      translate([ellipse_17_cx, ellipse_17_cy]) rotate(ellipse_17_angle) scale([ellipse_17_rx, ellipse_17_ry]) circle(r = fn_r(1));
     }
-    translate([ellipse_22_cx, ellipse_22_cy]) rotate(ellipse_22_angle) scale([ellipse_22_rx, ellipse_22_ry]) circle(r = fn_r(1));
+    translate([rect_18_cx, rect_18_cy]) rotate(rect_18_angle) square([rect_18_w, rect_18_h], center = true);
+    translate([tri_19_cx, tri_19_cy]) rotate(tri_19_angle) polygon([[-tri_19_w / 2, -tri_19_h / 2], [tri_19_w / 2, -tri_19_h / 2], [tri_19_apex * tri_19_w / 2, tri_19_h / 2]]);
+    translate([tri_20_cx, tri_20_cy]) rotate(tri_20_angle) polygon([[-tri_20_w / 2, -tri_20_h / 2], [tri_20_w / 2, -tri_20_h / 2], [tri_20_apex * tri_20_w / 2, tri_20_h / 2]]);
+    translate([ellipse_21_cx, ellipse_21_cy]) rotate(ellipse_21_angle) scale([ellipse_21_rx, ellipse_21_ry]) circle(r = fn_r(1));
+    translate([tri_22_cx, tri_22_cy]) rotate(tri_22_angle) polygon([[-tri_22_w / 2, -tri_22_h / 2], [tri_22_w / 2, -tri_22_h / 2], [tri_22_apex * tri_22_w / 2, tri_22_h / 2]]);
   }
 }
 

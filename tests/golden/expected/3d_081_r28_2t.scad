@@ -37,66 +37,66 @@ box_3_size_x = 6.3953; // [0:0.01:100]
 box_3_size_y = 5.7886; // [0:0.01:100]
 box_3_size_z = 1.3715; // [0:0.01:100]
 
-/* [Box 4] */
-box_4_cx = -1.8163; // [-100:0.01:100]
-box_4_cy = -2.687; // [-100:0.01:100]
-box_4_cz = -1.4921; // [-100:0.01:100]
-box_4_rot_x = 97.442449; // [-180:0.1:180]
-box_4_rot_y = 44.915681; // [-180:0.1:180]
-box_4_rot_z = 87.45939; // [-180:0.1:180]
-box_4_size_x = 1.4922; // [0:0.01:100]
-box_4_size_y = 2.8862; // [0:0.01:100]
-box_4_size_z = 1.7506; // [0:0.01:100]
+/* [Cylinder 4] */
+cyl_4_cx = -2.6354; // [-100:0.01:100]
+cyl_4_cy = 0.2868; // [-100:0.01:100]
+cyl_4_cz = -0.9809; // [-100:0.01:100]
+cyl_4_rot_x = -4.993621; // [-180:0.1:180]
+cyl_4_rot_y = -87.594864; // [-180:0.1:180]
+cyl_4_r = 1.1913; // [0:0.01:100]
+cyl_4_h = 7.7047; // [0:0.01:100]
 
 /* [Cylinder 5] */
-cyl_5_cx = -2.6354; // [-100:0.01:100]
-cyl_5_cy = 0.2868; // [-100:0.01:100]
-cyl_5_cz = -0.9809; // [-100:0.01:100]
-cyl_5_rot_x = -4.993621; // [-180:0.1:180]
-cyl_5_rot_y = -87.594864; // [-180:0.1:180]
-cyl_5_r = 1.1913; // [0:0.01:100]
-cyl_5_h = 7.7047; // [0:0.01:100]
+cyl_5_cx = -2.1434; // [-100:0.01:100]
+cyl_5_cy = 0.0527; // [-100:0.01:100]
+cyl_5_cz = -1.2415; // [-100:0.01:100]
+cyl_5_rot_y = -90; // [-180:0.1:180]
+cyl_5_r = 1.5304; // [0:0.01:100]
+cyl_5_h = 3.5256; // [0:0.01:100]
 
-/* [Cylinder 6] */
-cyl_6_cx = -2.1434; // [-100:0.01:100]
-cyl_6_cy = 0.0527; // [-100:0.01:100]
-cyl_6_cz = -1.2415; // [-100:0.01:100]
-cyl_6_rot_y = -90; // [-180:0.1:180]
-cyl_6_r = 1.5304; // [0:0.01:100]
-cyl_6_h = 3.5256; // [0:0.01:100]
+/* [Ellipsoid 6] */
+ellipsoid_6_cx = -1.0714; // [-100:0.01:100]
+ellipsoid_6_cy = 0.1786; // [-100:0.01:100]
+ellipsoid_6_cz = 2.8571; // [-100:0.01:100]
+ellipsoid_6_rot_x = -100.532654; // [-180:0.1:180]
+ellipsoid_6_rot_y = 83.912848; // [-180:0.1:180]
+ellipsoid_6_rot_z = -36.696874; // [-180:0.1:180]
+ellipsoid_6_rx = 3.3834; // [0:0.01:100]
+ellipsoid_6_ry = 4.9991; // [0:0.01:100]
+ellipsoid_6_rz = 7.4175; // [0:0.01:100]
 
 /* [Box 7] */
-box_7_cx = -1.2605; // [-100:0.01:100]
-box_7_cy = 0.1152; // [-100:0.01:100]
-box_7_cz = -2.5604; // [-100:0.01:100]
-box_7_rot_x = -69.937432; // [-180:0.1:180]
-box_7_rot_y = -85.482607; // [-180:0.1:180]
-box_7_rot_z = -108.512333; // [-180:0.1:180]
-box_7_size_x = 4.2642; // [0:0.01:100]
-box_7_size_y = 1.3873; // [0:0.01:100]
-box_7_size_z = 1.2821; // [0:0.01:100]
+box_7_cx = 1.4082; // [-100:0.01:100]
+box_7_cy = 0.0914; // [-100:0.01:100]
+box_7_cz = 2.3239; // [-100:0.01:100]
+box_7_rot_x = 4.409983; // [-180:0.1:180]
+box_7_rot_y = 0.233665; // [-180:0.1:180]
+box_7_rot_z = -0.033809; // [-180:0.1:180]
+box_7_size_x = 0.5124; // [0:0.01:100]
+box_7_size_y = 6.1039; // [0:0.01:100]
+box_7_size_z = 5.111; // [0:0.01:100]
 
-/* [Ellipsoid 8] */
-ellipsoid_8_cx = -1.0714; // [-100:0.01:100]
-ellipsoid_8_cy = 0.1786; // [-100:0.01:100]
-ellipsoid_8_cz = 2.8571; // [-100:0.01:100]
-ellipsoid_8_rot_x = -100.532654; // [-180:0.1:180]
-ellipsoid_8_rot_y = 83.912848; // [-180:0.1:180]
-ellipsoid_8_rot_z = -36.696874; // [-180:0.1:180]
-ellipsoid_8_rx = 3.3834; // [0:0.01:100]
-ellipsoid_8_ry = 4.9991; // [0:0.01:100]
-ellipsoid_8_rz = 7.4175; // [0:0.01:100]
+/* [Box 8] */
+box_8_cx = -1.8163; // [-100:0.01:100]
+box_8_cy = -2.687; // [-100:0.01:100]
+box_8_cz = -1.4921; // [-100:0.01:100]
+box_8_rot_x = 97.442449; // [-180:0.1:180]
+box_8_rot_y = 44.915681; // [-180:0.1:180]
+box_8_rot_z = 87.45939; // [-180:0.1:180]
+box_8_size_x = 1.4922; // [0:0.01:100]
+box_8_size_y = 2.8862; // [0:0.01:100]
+box_8_size_z = 1.7506; // [0:0.01:100]
 
 /* [Box 9] */
-box_9_cx = 1.4082; // [-100:0.01:100]
-box_9_cy = 0.0914; // [-100:0.01:100]
-box_9_cz = 2.3239; // [-100:0.01:100]
-box_9_rot_x = 4.409983; // [-180:0.1:180]
-box_9_rot_y = 0.233665; // [-180:0.1:180]
-box_9_rot_z = -0.033809; // [-180:0.1:180]
-box_9_size_x = 0.5124; // [0:0.01:100]
-box_9_size_y = 6.1039; // [0:0.01:100]
-box_9_size_z = 5.111; // [0:0.01:100]
+box_9_cx = -1.2605; // [-100:0.01:100]
+box_9_cy = 0.1152; // [-100:0.01:100]
+box_9_cz = -2.5604; // [-100:0.01:100]
+box_9_rot_x = -69.937432; // [-180:0.1:180]
+box_9_rot_y = -85.482607; // [-180:0.1:180]
+box_9_rot_z = -108.512333; // [-180:0.1:180]
+box_9_size_x = 4.2642; // [0:0.01:100]
+box_9_size_y = 1.3873; // [0:0.01:100]
+box_9_size_z = 1.2821; // [0:0.01:100]
 
 /* [Box 10] */
 box_10_cx = 1.4205; // [-100:0.01:100]
@@ -154,25 +154,21 @@ module csg_high_res() {
       translate([prism_2_cx, prism_2_cy, prism_2_cz]) rotate([prism_2_rot_x, prism_2_rot_y, prism_2_rot_z]) linear_extrude(height = prism_2_depth, center = true) polygon([[-prism_2_w / 2, -prism_2_h / 2], [prism_2_w / 2, -prism_2_h / 2], [prism_2_apex * prism_2_w / 2, prism_2_h / 2]]);
       difference() {
         translate([box_3_cx, box_3_cy, box_3_cz]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
-        translate([box_4_cx, box_4_cy, box_4_cz]) rotate([box_4_rot_x, box_4_rot_y, box_4_rot_z]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
         difference() {
-          translate([cyl_5_cx, cyl_5_cy, cyl_5_cz]) rotate([cyl_5_rot_x, cyl_5_rot_y, 0]) cylinder(h = cyl_5_h, r = fn_r(cyl_5_r), center = true);
-          difference() {
-            translate([cyl_6_cx, cyl_6_cy, cyl_6_cz]) rotate([0, cyl_6_rot_y, 0]) cylinder(h = cyl_6_h, r = fn_r(cyl_6_r), center = true);
-            translate([box_7_cx, box_7_cy, box_7_cz]) rotate([box_7_rot_x, box_7_rot_y, box_7_rot_z]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
-          }
+          translate([cyl_4_cx, cyl_4_cy, cyl_4_cz]) rotate([cyl_4_rot_x, cyl_4_rot_y, 0]) cylinder(h = cyl_4_h, r = fn_r(cyl_4_r), center = true);
+          translate([cyl_5_cx, cyl_5_cy, cyl_5_cz]) rotate([0, cyl_5_rot_y, 0]) cylinder(h = cyl_5_h, r = fn_r(cyl_5_r), center = true);
         }
       }
     }
     difference() {
-      translate([ellipsoid_8_cx, ellipsoid_8_cy, ellipsoid_8_cz]) rotate([ellipsoid_8_rot_x, ellipsoid_8_rot_y, ellipsoid_8_rot_z]) scale([ellipsoid_8_rx, ellipsoid_8_ry, ellipsoid_8_rz]) sphere(r = fn_sr(1));
-      difference() {
-        translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, box_9_rot_y, box_9_rot_z]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
-        translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
-        translate([box_11_cx, box_11_cy, box_11_cz]) rotate([0, box_11_rot_y, box_11_rot_z]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
-        translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, box_12_rot_y, box_12_rot_z]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
-      }
+      translate([ellipsoid_6_cx, ellipsoid_6_cy, ellipsoid_6_cz]) rotate([ellipsoid_6_rot_x, ellipsoid_6_rot_y, ellipsoid_6_rot_z]) scale([ellipsoid_6_rx, ellipsoid_6_ry, ellipsoid_6_rz]) sphere(r = fn_sr(1));
+      translate([box_7_cx, box_7_cy, box_7_cz]) rotate([box_7_rot_x, box_7_rot_y, box_7_rot_z]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
     }
+    translate([box_8_cx, box_8_cy, box_8_cz]) rotate([box_8_rot_x, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
+    translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, box_9_rot_y, box_9_rot_z]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
+    translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
+    translate([box_11_cx, box_11_cy, box_11_cz]) rotate([0, box_11_rot_y, box_11_rot_z]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
+    translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, box_12_rot_y, box_12_rot_z]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
   }
 }
 

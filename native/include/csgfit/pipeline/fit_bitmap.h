@@ -25,6 +25,7 @@ struct FitOptions {
   std::uint64_t seed = 1;
   int alternatives = 0;         ///< extra structurally different good trees to return
   SearchParams search;
+  bool optimize_tree = true;    ///< seed 001's optimiser as the last stage (same solid, smaller tree)
 };
 
 /// k for an image: 25 at 128 x 128, proportional to the pixel count.

@@ -23,6 +23,7 @@ struct FitOptions3D {
   int threads = 0;             ///< 0 = all cores
   std::uint64_t seed = 1;
   SearchParams search = SearchParams::for_3d();  ///< islands, odds, convergence (max_stale)
+  bool optimize_tree = true;   ///< seed 001's optimiser as the last stage (same solid, smaller tree)
 };
 
 /// k for a grid: 200 voxels per primitive per million voxels of the grid (the target's whole

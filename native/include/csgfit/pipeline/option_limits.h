@@ -30,6 +30,10 @@ inline constexpr NumberRule alternatives{"a count of alternatives", 0, 20, false
 inline constexpr NumberRule threshold{"a grey level", 0, 255, false, true};
 inline constexpr NumberRule focal_length{"a focal length in pixels", 1e-3, 1e7, false, false};
 inline constexpr NumberRule principal_point{"a pixel coordinate", -1e7, 1e7, false, false};
+/// The optimiser's GA weights (seed 001: geometry 20, size 2, proximity 2).
+inline constexpr NumberRule weight{"a score weight", 0, 1000, false, false};
+/// csgfit inflate's steps (seed 001's generator: 10).
+inline constexpr NumberRule inflate_steps{"a step count", 0, 1000, false, true};
 /// --max-memory, in bytes: 16 MiB up to 1 PiB.
 inline constexpr NumberRule memory{"a memory size", 16.0 * (1 << 20), 1125899906842624.0, false, true};
 }  // namespace option_rules
