@@ -1,5 +1,5 @@
-"""GUI commands of the CSG Fit workbench: "Image to CSG", "Mesh to CSG", "Range image to CSG"
-and "Export OpenSCAD"."""
+"""GUI commands of the CSG Fit workbench: "Image to CSG", "Mesh to CSG", "Range image to CSG",
+"Optimize CSG tree" and "Export OpenSCAD"."""
 
 import os
 
@@ -13,7 +13,8 @@ IMAGE_TO_CSG = "CSGFit_ImageToCSG"
 MESH_TO_CSG = "CSGFit_MeshToCSG"
 RANGE_TO_CSG = "CSGFit_RangeToCSG"
 EXPORT_SCAD = "CSGFit_ExportOpenSCAD"
-COMMANDS = [IMAGE_TO_CSG, MESH_TO_CSG, RANGE_TO_CSG, EXPORT_SCAD]
+OPTIMIZE_TREE = "CSGFit_OptimizeTree"
+COMMANDS = [IMAGE_TO_CSG, MESH_TO_CSG, RANGE_TO_CSG, OPTIMIZE_TREE, EXPORT_SCAD]
 #: The last fit panel opened (scripts and the GUI test drive it).
 active_panel = None
 
@@ -163,6 +164,42 @@ class ExportScadCommand:
         App.Console.PrintMessage(f"CSG Fit: wrote {path}\n")
 
 
+class OptimizeTreeCommand:
+    """Builds the selected boolean tree's optimised twin beside it (seed 001's optimiser)."""
+
+    METHODS = ["auto", "espresso", "qmc", "setcover", "ga"]
+
+    def GetResources(self):
+        return {"Pixmap": icon("csgfit_optimize_tree"),
+                "MenuText": "Optimize CSG tree",
+                "ToolTip": "Build a smaller parametric tree of the same solid beside the selected "
+                           "Part boolean tree (the original is hidden, one undo step)"}
+
+    def IsActive(self):
+        return App.ActiveDocument is not None and bool(Gui.Selection.getSelection())
+
+    def Activated(self):
+        from .optimize_tree import optimize_object
+
+        obj = Gui.Selection.getSelection()[0]
+        method, ok = QtWidgets.QInputDialog.getItem(
+            Gui.getMainWindow(), "Optimize CSG tree", "Remaining-solid optimiser:", self.METHODS, 0, False)
+        if not ok:
+            return
+        try:
+            root, result = optimize_object(obj, method=method)
+        except Exception as e:
+            _message("Optimize CSG tree", f"Could not optimise {obj.Label}: {e}")
+            return
+        front = "".join(f"\n  size {s}, proximity {p:.2f}" for s, p in result.pareto)
+        QtWidgets.QMessageBox.information(
+            Gui.getMainWindow(), "Optimize CSG tree",
+            f"{root.Label}: size {result.size_before} -> {result.size_after}, "
+            f"{result.primitives_before} -> {result.primitives_after} primitives, proximity "
+            f"{result.proximity_before:.2f} -> {result.proximity_after:.2f}"
+            + (f"\nPareto front (the GA):{front}" if front else ""))
+
+
 _registered = False
 
 
@@ -173,4 +210,5 @@ def register():
         Gui.addCommand(MESH_TO_CSG, MeshToCsgCommand())
         Gui.addCommand(RANGE_TO_CSG, RangeToCsgCommand())
         Gui.addCommand(EXPORT_SCAD, ExportScadCommand())
+        Gui.addCommand(OPTIMIZE_TREE, OptimizeTreeCommand())
         _registered = True

@@ -10,6 +10,9 @@
 FitResult3D, the same kind of object: its ``tree`` is Node / Primitive3D objects in the mesh's
 units, and its ``document`` is the dimension-3 JSON document of ``csgfit mesh -o x.json``.
 
+An OpenSCAD program (seed 001): ``csgfit.optimize("part.scad")`` returns an OptimizeResult, the
+same solid from a smaller tree, as ``scad`` and ``csg`` text with its sizes and proximity.
+
 Range images and point clouds (seed 002): ``csgfit.fit_range("part.png")`` (a path or a list
 of views of one part) or ``csgfit.fit_points(xyz_array)`` return a RangeFitResult: the tree,
 its ``precedence_graph`` (subobjects, orders, signs), ``report()``, ``views``, ``patches``,
@@ -28,6 +31,7 @@ from __future__ import annotations
 from . import _csgfit
 from .bitmaps import fit_image, load_bitmap, load_json
 from .meshes import fit_mesh, fit_voxels, load_mesh, load_voxels, voxelize
+from .optimize import OptimizeResult, optimize
 from .options import (DEFAULT_PRIMITIVES_3D, PRIMITIVE_TYPES, PRIMITIVE_TYPES_3D, QUALITIES,
                       CancelToken, FitProgress, InputError, set_max_memory)
 from .ranges import (DEFAULT_PRIMITIVES_RANGE, GraphArc, GraphNode, PrecedenceGraph,
@@ -53,6 +57,7 @@ __all__ = [
     "GridResult",
     "InputError",
     "Node",
+    "OptimizeResult",
     "Primitive",
     "PrecedenceGraph",
     "Primitive3D",
@@ -70,6 +75,7 @@ __all__ = [
     "load_json",
     "load_mesh",
     "load_voxels",
+    "optimize",
     "set_max_memory",
     "voxelize",
 ]
