@@ -48,8 +48,8 @@ struct ScadWriteOptions {
   bool csg_style = false;  ///< true: multmatrix everywhere (a .csg); false: translate/rotate
   std::string header;      ///< comment lines put first (each without "//")
   /// A complement ~X (only an inflated tree has one) is written as `U - X`, U a box around
-  /// the whole program this many times its size.
-  double universe_scale = 3;
+  /// the whole program this many times its size (and one unit more).
+  double universe_scale = 1.2;
 };
 
 /// The program with `tree` (over its leaves, no Complement) as OpenSCAD text.

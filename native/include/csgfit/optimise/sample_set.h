@@ -39,8 +39,13 @@ class SampleSet {
 
   /// The expression's samples (no opaque leaves allowed: std::logic_error).
   Column evaluate(const Expr& e) const;
-  /// Whether no sample is inside, level by level (stops at the first inside one); cached.
+  /// Whether the expression is empty: no shared sample is inside (level by level, stopping at
+  /// the first inside one), and neither is any of a dense jittered grid over the expression's
+  /// own bounds (the seed's minimum cell size, where it matters: a thin sliver between two
+  /// large primitives falls between the shared samples). Cached by structure.
   bool is_empty(const Expr& e) const;
+  /// Conservative bounds of the expression's solid; `empty` when they are empty.
+  Box<D> bounds_of(const Expr& e, bool& empty) const;
   /// Whether every sample of `a` is a sample of `b`.
   bool is_subset(const Expr& a, const Expr& b) const;
   /// Number of empty-set decisions asked and answered from the cache.
@@ -49,6 +54,11 @@ class SampleSet {
 
  private:
   Column evaluate_range(const Expr& e, std::size_t w0, std::size_t w1) const;
+  bool contains(const Expr& e, const Point<D>& p) const;
+  bool dense_empty(const Expr& e) const;
+  const HalfspaceList<D>* halfspaces_ = nullptr;
+  Box<D> domain_;
+  std::uint64_t seed_ = 1;
   std::vector<Point<D>> points_;
   std::vector<std::size_t> level_words_;  // word index where each level ends
   std::vector<Column> columns_;

@@ -11,7 +11,8 @@
 
 namespace csgfit::opt {
 
-/// The tree as an expression whose halfspace i is `leaves[i]` (filled here, in pre-order).
+/// The tree as an expression whose halfspace i is `leaves[i]` (filled here, in pre-order;
+/// equal primitives share one index).
 template <typename P>
 Expr expression_of(const CsgNode<P>& tree, std::vector<P>& leaves);
 

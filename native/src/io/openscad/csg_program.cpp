@@ -5,6 +5,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <unordered_map>
 
 #include "csgfit/error.h"
 #include "io/input_file.h"
@@ -111,6 +112,7 @@ struct Builder {
   opt::HalfspaceList<D> halfspaces;
   std::vector<ScadLeaf> leaves, opaque;
   std::size_t operations = 0;
+  std::unordered_map<std::string, int> index_of;
 
   std::string where(const ScadCall& c) const { return file + ":" + std::to_string(c.line); }
 
@@ -129,7 +131,13 @@ struct Builder {
     return Expr::make(op, std::move(kids));
   }
 
+  // The same call under the same matrix is the same halfspace (one index), so that the
+  // structural rules see copies as identical operands.
   Expr leaf(const ScadCall& c, const Matrix4& m, opt::Halfspace<D> h) {
+    std::string key = call_text(c);
+    key.append(reinterpret_cast<const char*>(m.data()), sizeof(double) * m.size());
+    const auto [at, fresh] = index_of.emplace(std::move(key), static_cast<int>(halfspaces.size()));
+    if (!fresh) return Expr::halfspace(at->second);
     halfspaces.push_back(std::move(h));
     leaves.push_back({m, call_text(c), c.line});
     return Expr::halfspace(static_cast<int>(halfspaces.size() - 1));
@@ -145,7 +153,7 @@ struct Builder {
 
 // The 2D solid under an extrusion, or null when it holds something opaque.
 std::shared_ptr<scad_shapes::Solid2D> section_of(const ScadCall& c, std::string_view text, const std::string& file) {
-  Builder<2> b{text, file, {}, {}, {}, 0};
+  Builder<2> b{text, file, {}, {}, {}, 0, {}};
   auto solid = std::make_shared<scad_shapes::Solid2D>();
   solid->tree = b.children(c, scadm::identity(), ExprOp::Union);
   if (!b.opaque.empty() || b.halfspaces.empty()) return nullptr;
@@ -204,11 +212,11 @@ ScadProgram program_from_csg(const std::vector<ScadCall>& calls, std::string_vie
     p.operations = b.operations;
   };
   if (p.dimension == 3) {
-    Builder<3> b{text, file, {}, {}, {}, 0};
+    Builder<3> b{text, file, {}, {}, {}, 0, {}};
     finish(b);
     p.halfspaces3 = std::move(b.halfspaces);
   } else {
-    Builder<2> b{text, file, {}, {}, {}, 0};
+    Builder<2> b{text, file, {}, {}, {}, 0, {}};
     finish(b);
     p.halfspaces2 = std::move(b.halfspaces);
   }

@@ -32,8 +32,9 @@ Expr decompose_dominant(Expr e, const SampleSet<D>& s, const RemainingSolver<D>&
   for (int h : halfspaces_used(e)) {
     const Column& c = s.column(h);
     if (!any(c)) continue;
-    if (!any_outside(c, solid)) inside.push_back(Expr::halfspace(h));
-    else if (!any_common(c, solid)) outside.push_back(Expr::halfspace(h));
+    const Expr hs = Expr::halfspace(h);
+    if (!any_outside(c, solid) && s.is_empty(Expr::make(ExprOp::Difference, {hs, e}))) inside.push_back(hs);
+    else if (!any_common(c, solid) && s.is_empty(Expr::make(ExprOp::Intersection, {hs, e}))) outside.push_back(hs);
   }
   if (inside.empty() && outside.empty()) {
     ++report.remaining_solids;

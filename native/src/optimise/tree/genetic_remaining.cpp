@@ -213,7 +213,7 @@ Expr genetic_remaining(const Expr& solid, const SampleSet<D>& s, const OptimizeO
   });
   Expr tree = best->tree;
   remove_redundancy(tree, s);
-  return tree;
+  return same_solid(tree, solid, s) ? tree : solid;
 }
 
 template Expr genetic_remaining<2>(const Expr&, const SampleSet<2>&, const OptimizeOptions&, std::vector<ParetoPoint>&);

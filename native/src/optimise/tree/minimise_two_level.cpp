@@ -78,7 +78,10 @@ Expr minimise_two_level(const Expr& solid, const SampleSet<D>& s, RemainingMetho
   for (const auto& cube : cover) products.push_back(product(cube, vars));
   Expr candidate = products.size() == 1 ? std::move(products[0]) : Expr::make(ExprOp::Union, std::move(products));
   remove_redundancy(candidate, s);
-  return expression_size(candidate) < expression_size(solid) ? candidate : solid;
+  // The cover is free on the minterms no sample saw; it stands only where the dense check
+  // finds it the same solid.
+  if (expression_size(candidate) >= expression_size(solid) || !same_solid(candidate, solid, s)) return solid;
+  return candidate;
 }
 
 template Expr minimise_two_level<2>(const Expr&, const SampleSet<2>&, RemainingMethod, std::uint64_t);

@@ -31,13 +31,16 @@ std::string to_string(RemainingMethod method) {
 
 namespace {
 
+// A two-level cover or a GA tree is free on the canonical intersection terms that no sample
+// saw; it replaces the remaining solid only when a second, independent sample set agrees.
 template <std::size_t D>
-RemainingSolver<D> remaining_solver(const OptimizeOptions& options, OptimizeReport& report) {
-  return [&options, &report](const Expr& solid, const SampleSet<D>& s) {
+RemainingSolver<D> remaining_solver(const OptimizeOptions& options, const SampleSet<D>& validation,
+                                    OptimizeReport& report) {
+  return [&options, &validation, &report](const Expr& solid, const SampleSet<D>& s) {
     Expr best = options.method == RemainingMethod::Genetic
                     ? genetic_remaining(solid, s, options, report.pareto)
                     : minimise_two_level(solid, s, options.method, options.seed);
-    if (expression_size(best) < expression_size(solid)) {
+    if (expression_size(best) < expression_size(solid) && validation.evaluate(best) == validation.evaluate(solid)) {
       ++report.remaining_improved;
       return best;
     }
@@ -47,9 +50,10 @@ RemainingSolver<D> remaining_solver(const OptimizeOptions& options, OptimizeRepo
 
 // The seed's stages on a solid without opaque leaves.
 template <std::size_t D>
-Expr optimise_solid(Expr e, const SampleSet<D>& s, const OptimizeOptions& options, OptimizeReport& report) {
+Expr optimise_solid(Expr e, const SampleSet<D>& s, const SampleSet<D>& validation, const OptimizeOptions& options,
+                    OptimizeReport& report) {
   if (!e.is_operator()) return e;
-  const RemainingSolver<D> remaining = remaining_solver<D>(options, report);
+  const RemainingSolver<D> remaining = remaining_solver<D>(options, validation, report);
   Expr decomposed = options.decompose ? decompose_dominant(e, s, remaining, report) : remaining(e, s);
   const RedundancyReport r = remove_redundancy(decomposed, s);
   report.structural_rewrites += r.structural;
@@ -60,10 +64,10 @@ Expr optimise_solid(Expr e, const SampleSet<D>& s, const OptimizeOptions& option
 // Every largest subtree free of opaque leaves is optimised on its own; the operators above
 // opaque leaves keep their place.
 template <std::size_t D>
-Expr optimise_around_opaque(Expr e, const SampleSet<D>& s, const OptimizeOptions& options,
-                            OptimizeReport& report) {
-  if (!has_opaque(e)) return optimise_solid(std::move(e), s, options, report);
-  for (Expr& k : e.kids) k = optimise_around_opaque(std::move(k), s, options, report);
+Expr optimise_around_opaque(Expr e, const SampleSet<D>& s, const SampleSet<D>& validation,
+                            const OptimizeOptions& options, OptimizeReport& report) {
+  if (!has_opaque(e)) return optimise_solid(std::move(e), s, validation, options, report);
+  for (Expr& k : e.kids) k = optimise_around_opaque(std::move(k), s, validation, options, report);
   return e;
 }
 
@@ -109,7 +113,8 @@ OptimizeResult optimize_tree(const Expr& tree, const HalfspaceList<D>& halfspace
   report.stage_sizes.push_back({"redundancy removal", expression_size(e)});
   Expr after_rules = e;  // what the check falls back to before the input itself
   if (!eliminate_complements(after_rules)) after_rules = tree;
-  e = optimise_around_opaque(std::move(e), samples, options, report);
+  const SampleSet<D> validation(halfspaces, {options.seed ^ 0xa11d0e5ULL, options.finest, 0});
+  e = optimise_around_opaque(std::move(e), samples, validation, options, report);
   report.stage_sizes.push_back({"decomposition and remaining solid", expression_size(e)});
   if (!eliminate_complements(e)) throw InputError("the tree is unbounded (a complement at its root)");
   remove_redundancy(e, samples);

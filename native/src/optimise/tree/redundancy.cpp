@@ -36,6 +36,28 @@ Column fold_others(const std::vector<Column>& cols, const std::vector<bool>& kno
   return acc;
 }
 
+// The known operands but `skip` (from `from` on), as one operand of `op`.
+std::vector<Expr> known_others(const Expr& e, const std::vector<bool>& known, std::size_t skip, std::size_t from) {
+  std::vector<Expr> out;
+  for (std::size_t i = from; i < e.kids.size(); ++i)
+    if (i != skip && known[i]) out.push_back(e.kids[i]);
+  return out;
+}
+
+// What the columns found, as an empty-set decision on the expression that says it, so that the
+// dense check in the operand's own bounds has the last word.
+template <std::size_t D>
+bool confirmed_redundant(const Expr& e, const std::vector<bool>& known, std::size_t i, const SampleSet<D>& s) {
+  if (e.op == ExprOp::Union)
+    return s.is_empty(Expr::make(ExprOp::Difference, {e.kids[i], Expr::make(ExprOp::Union, known_others(e, known, i, 0))}));
+  if (e.op == ExprOp::Intersection)
+    return s.is_empty(
+        Expr::make(ExprOp::Difference, {Expr::make(ExprOp::Intersection, known_others(e, known, i, 0)), e.kids[i]}));
+  std::vector<Expr> left = known_others(e, known, i, 1);
+  left.insert(left.begin(), e.kids[0]);
+  return s.is_empty(Expr::make(ExprOp::Intersection, {Expr::make(ExprOp::Difference, std::move(left)), e.kids[i]}));
+}
+
 // Drops operands the rest already decides: a union operand inside the union of the others,
 // an intersection operand holding the intersection of the others, a subtrahend that removes
 // nothing the others do not. Opaque operands stay, and are left out of the others (which
@@ -64,7 +86,7 @@ std::size_t drop_redundant_operands(Expr& e, const SampleSet<D>& s) {
         for (std::size_t w = 0; w < left.size(); ++w) left[w] &= ~cut[w];
       redundant = !any_common(left, cols[i]);
     }
-    if (!redundant) continue;
+    if (!redundant || !confirmed_redundant(e, known, i, s)) continue;
     e.kids.erase(e.kids.begin() + static_cast<std::ptrdiff_t>(i));
     cols.erase(cols.begin() + static_cast<std::ptrdiff_t>(i));
     known.erase(known.begin() + static_cast<std::ptrdiff_t>(i));

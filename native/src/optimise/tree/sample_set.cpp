@@ -78,6 +78,9 @@ SampleSet<D>::SampleSet(const HalfspaceList<D>& hs, const SamplingOptions& optio
     --local;
   rnd::Rng rng(rnd::splitmix(options.seed));
   const Box<D> all = union_bounds(hs);
+  halfspaces_ = &hs;
+  domain_ = all;
+  seed_ = options.seed;
   // Coarse levels first, then every halfspace's own box (small primitives), then the finest.
   for (std::size_t n = 4; n < finest; n *= 2) {
     add_jittered_grid(all, n, rng, points_);
@@ -153,8 +156,87 @@ bool SampleSet<D>::is_empty(const Expr& e) const {
     }
     w0 = w1;
   }
+  if (empty) empty = dense_empty(e);
   empty_cache_[key] = empty;
   return empty;
+}
+
+template <std::size_t D>
+Box<D> SampleSet<D>::bounds_of(const Expr& e, bool& empty) const {
+  empty = false;
+  switch (e.op) {
+    case ExprOp::Halfspace: return (*halfspaces_)[static_cast<std::size_t>(e.index)].bounds;
+    case ExprOp::Empty: empty = true; return domain_;
+    case ExprOp::Difference: return bounds_of(e.kids[0], empty);
+    case ExprOp::Union: {
+      Box<D> box{};
+      bool any_kid = false;
+      for (const Expr& k : e.kids) {
+        bool k_empty = false;
+        const Box<D> b = bounds_of(k, k_empty);
+        if (k_empty) continue;
+        if (!any_kid) box = b;
+        else box.include(b);
+        any_kid = true;
+      }
+      empty = !any_kid;
+      return box;
+    }
+    case ExprOp::Intersection: {
+      Box<D> box = domain_;
+      for (const Expr& k : e.kids) {
+        bool k_empty = false;
+        const Box<D> b = bounds_of(k, k_empty);
+        if (k_empty) { empty = true; return box; }
+        for (std::size_t a = 0; a < D; ++a) box.lo[a] = std::max(box.lo[a], b.lo[a]), box.hi[a] = std::min(box.hi[a], b.hi[a]);
+      }
+      for (std::size_t a = 0; a < D; ++a) empty = empty || box.lo[a] > box.hi[a];
+      return box;
+    }
+    default: return domain_;  // complement, universe
+  }
+}
+
+template <std::size_t D>
+bool SampleSet<D>::contains(const Expr& e, const Point<D>& p) const {
+  switch (e.op) {
+    case ExprOp::Halfspace: {
+      const Halfspace<D>& h = (*halfspaces_)[static_cast<std::size_t>(e.index)];
+      return h.bounds.contains(p) && h.contains(p);
+    }
+    case ExprOp::Empty: return false;
+    case ExprOp::Universe: return true;
+    case ExprOp::Complement: return !contains(e.kids[0], p);
+    case ExprOp::Union:
+      for (const Expr& k : e.kids)
+        if (contains(k, p)) return true;
+      return false;
+    case ExprOp::Intersection:
+      for (const Expr& k : e.kids)
+        if (!contains(k, p)) return false;
+      return true;
+    case ExprOp::Difference:
+      if (!contains(e.kids[0], p)) return false;
+      for (std::size_t i = 1; i < e.kids.size(); ++i)
+        if (contains(e.kids[i], p)) return false;
+      return true;
+    default: throw std::logic_error("SampleSet: an opaque leaf cannot be sampled");
+  }
+}
+
+// A jittered grid over the expression's own bounds, seeded by its structure (the same answer
+// for the same expression).
+template <std::size_t D>
+bool SampleSet<D>::dense_empty(const Expr& e) const {
+  bool empty = false;
+  const Box<D> box = bounds_of(e, empty);
+  if (empty) return true;
+  rnd::Rng rng(rnd::splitmix(seed_ ^ structural_hash(e)));
+  std::vector<Point<D>> points;
+  add_jittered_grid(box, D == 3 ? 24 : 100, rng, points);
+  for (const Point<D>& p : points)
+    if (contains(e, p)) return false;
+  return true;
 }
 
 template <std::size_t D>

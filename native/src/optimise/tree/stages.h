@@ -31,6 +31,13 @@ template <std::size_t D>
 Expr genetic_remaining(const Expr& solid, const SampleSet<D>& s, const OptimizeOptions& options,
                        std::vector<ParetoPoint>& front);
 
+/// Whether the two expressions are the same solid: both differences empty (samples and the
+/// dense check of SampleSet::is_empty).
+template <std::size_t D>
+bool same_solid(const Expr& a, const Expr& b, const SampleSet<D>& s) {
+  return s.is_empty(Expr::make(ExprOp::Difference, {a, b})) && s.is_empty(Expr::make(ExprOp::Difference, {b, a}));
+}
+
 /// Orders operands so that each overlaps the ones before it where it can (the seed's spatial
 /// sorting): the first stays, the others follow greedily.
 template <std::size_t D>

@@ -9,7 +9,9 @@ namespace {
 
 template <typename P>
 Expr convert(const CsgNode<P>& n, std::vector<P>& leaves) {
-  if (n.is_leaf()) {
+  if (n.is_leaf()) {  // equal primitives are one halfspace, so that copies are identical operands
+    const auto at = std::find(leaves.begin(), leaves.end(), n.primitive);
+    if (at != leaves.end()) return Expr::halfspace(static_cast<int>(at - leaves.begin()));
     leaves.push_back(n.primitive);
     return Expr::halfspace(static_cast<int>(leaves.size() - 1));
   }
