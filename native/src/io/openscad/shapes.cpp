@@ -134,6 +134,42 @@ bool inside_polygon(const std::vector<std::array<double, 2>>& pts, const std::ve
   return in;
 }
 
+// OpenSCAD's number of fragments of a circle of radius r (Calc::get_fragments_from_r), so that
+// a halfspace is the polygon or polyhedron OpenSCAD renders, not the smooth shape: a decision
+// such as "this cube lies in that cylinder" must hold for what the user sees.
+int fragments(const ScadCall& c, double r, const std::string& where) {
+  const double fn = number_arg(c, "$fn", 0, where), fa = number_arg(c, "$fa", 12, where),
+               fs = number_arg(c, "$fs", 2, where);
+  if (r < 1e-10) return 3;
+  if (fn > 0) return fn >= 3 ? static_cast<int>(std::min(fn, 1e6)) : 3;
+  const double by_angle = fa > 0 ? 360.0 / fa : 1e6, by_size = fs > 0 ? r * 2 * kPi / fs : 1e6;
+  return static_cast<int>(std::ceil(std::max(std::min(std::min(by_angle, by_size), 1e6), 5.0)));
+}
+
+// Inside OpenSCAD's regular n-gon of circumradius R (vertex i at 360 i / n degrees).
+bool inside_ngon(double x, double y, double R, int n) {
+  if (R <= 0) return false;
+  const double step = 2 * kPi / n;
+  double phi = std::atan2(y, x);
+  if (phi < 0) phi += 2 * kPi;
+  const double mid = (std::floor(phi / step) + 0.5) * step;
+  return x * std::cos(mid) + y * std::sin(mid) <= R * std::cos(step / 2);
+}
+
+// OpenSCAD's sphere: (n + 1) / 2 rings of n-gons at polar angles 180 (i + 0.5) / rings, joined
+// face to face, so that a section at height z is the n-gon of the two rings' radii blended.
+bool inside_sphere_polyhedron(double x, double y, double z, double r, int n) {
+  const int rings = (n + 1) / 2;
+  auto ring_z = [&](int i) { return r * std::cos(kPi * (i + 0.5) / rings); };
+  auto ring_r = [&](int i) { return r * std::sin(kPi * (i + 0.5) / rings); };
+  if (z > ring_z(0) || z < ring_z(rings - 1)) return false;
+  if (rings == 1) return inside_ngon(x, y, ring_r(0), n);
+  int i = 0;
+  while (i + 1 < rings - 1 && z < ring_z(i + 1)) ++i;
+  const double t = (ring_z(i) - z) / (ring_z(i) - ring_z(i + 1));
+  return inside_ngon(x, y, ring_r(i) + t * (ring_r(i + 1) - ring_r(i)), n);
+}
+
 }  // namespace
 
 bool is_extrusion(const std::string& n) { return n == "linear_extrude" || n == "rotate_extrude"; }
@@ -152,7 +188,9 @@ std::optional<opt::Halfspace<3>> primitive3(const ScadCall& c, const Matrix4& wo
   if (c.name == "sphere") {
     const double r = radius_arg(c, "r", "d", 1, where);
     require_positive(r, c, "radius", where);
-    return placed3({{-r, -r, -r}, {r, r, r}}, world, [r](double x, double y, double z) { return x * x + y * y + z * z <= r * r; });
+    const int n = fragments(c, r, where);
+    return placed3({{-r, -r, -r}, {r, r, r}}, world,
+                   [r, n](double x, double y, double z) { return inside_sphere_polyhedron(x, y, z, r, n); });
   }
   if (c.name == "cylinder") {
     const double h = number_arg(c, "h", 1, where);
@@ -161,10 +199,10 @@ std::optional<opt::Halfspace<3>> primitive3(const ScadCall& c, const Matrix4& wo
     require_positive(h, c, "height", where);
     if (!(r1 >= 0 && r2 >= 0) || r1 + r2 <= 0) throw InputError(where + ": cylinder has no radius");
     const double z0 = bool_arg(c, "center") ? -h / 2 : 0, rmax = std::max(r1, r2);
+    const int n = fragments(c, rmax, where);
     return placed3({{-rmax, -rmax, z0}, {rmax, rmax, z0 + h}}, world, [=](double x, double y, double z) {
       if (z < z0 || z > z0 + h) return false;
-      const double rr = r1 + (r2 - r1) * (z - z0) / h;
-      return x * x + y * y <= rr * rr;
+      return inside_ngon(x, y, r1 + (r2 - r1) * (z - z0) / h, n);
     });
   }
   return std::nullopt;
@@ -174,7 +212,8 @@ std::optional<opt::Halfspace<2>> primitive2(const ScadCall& c, const Matrix4& wo
   if (c.name == "circle") {
     const double r = radius_arg(c, "r", "d", 1, where);
     require_positive(r, c, "radius", where);
-    return placed2({{-r, -r}, {r, r}}, world, [r](double x, double y) { return x * x + y * y <= r * r; });
+    const int n = fragments(c, r, where);
+    return placed2({{-r, -r}, {r, r}}, world, [r, n](double x, double y) { return inside_ngon(x, y, r, n); });
   }
   if (c.name == "square") {
     const auto s = sizes_arg(c, "size", 2, 1, where);

@@ -58,6 +58,15 @@ void add_jittered_grid(const Box<D>& box, std::size_t n, rnd::Rng& rng, std::vec
   }
 }
 
+// The halfspaces that occur positively (not under an odd number of complements and cuts).
+void positive_literals(const Expr& e, bool positive, std::vector<int>& out) {
+  if (e.op == ExprOp::Halfspace && positive) out.push_back(e.index);
+  for (std::size_t i = 0; i < e.kids.size(); ++i) {
+    const bool flip = e.op == ExprOp::Complement || (e.op == ExprOp::Difference && i > 0);
+    positive_literals(e.kids[i], positive != flip, out);
+  }
+}
+
 template <std::size_t D>
 void pad_to_word(std::vector<Point<D>>& points) {
   while (points.size() % 64 != 0) points.push_back(points.back());
@@ -234,6 +243,22 @@ bool SampleSet<D>::dense_empty(const Expr& e) const {
   rnd::Rng rng(rnd::splitmix(seed_ ^ structural_hash(e)));
   std::vector<Point<D>> points;
   add_jittered_grid(box, D == 3 ? 24 : 100, rng, points);
+  // Every inside point of e is inside one of its positive literals: their own boxes get a grid
+  // each, which finds a thin part of a small primitive that e's whole box is too large for.
+  std::vector<int> positive;
+  positive_literals(e, true, positive);
+  std::sort(positive.begin(), positive.end());
+  positive.erase(std::unique(positive.begin(), positive.end()), positive.end());
+  const std::size_t per = positive.size() > 64 ? (D == 3 ? 6 : 16) : (D == 3 ? 10 : 32);
+  for (int h : positive) {
+    Box<D> b = (*halfspaces_)[static_cast<std::size_t>(h)].bounds;
+    bool overlap = true;
+    for (std::size_t a = 0; a < D; ++a) {
+      b.lo[a] = std::max(b.lo[a], box.lo[a]), b.hi[a] = std::min(b.hi[a], box.hi[a]);
+      overlap = overlap && b.lo[a] <= b.hi[a];
+    }
+    if (overlap) add_jittered_grid(b, per, rng, points);
+  }
   for (const Point<D>& p : points)
     if (contains(e, p)) return false;
   return true;
