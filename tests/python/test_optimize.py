@@ -94,3 +94,25 @@ def test_unknown_method_and_bad_weight_are_refused():
         csgfit.optimize("x.csg", method="magic")
     with pytest.raises(csgfit.InputError):
         csgfit.optimize("x.csg", proximity_weight=float("nan"))
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: "union() {" * 100000 + "cube(size = 1);" + "}" * 100000, "deeper than"),
+    (lambda: "union() {\n" + "cube(size = [1, 1, 1], center = false);\n" * 1000000 + "}\n", "primitive calls"),
+    (lambda: "union() {\n" + "".join("multmatrix([[1, 0, 0, %d], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) "
+                                     "{ cube(size = 1); }\n" % i for i in range(6000)) + "}\n", "distinct primitives"),
+])
+def test_absurd_trees_are_refused_quickly_in_one_line(tmp_path, make, message):
+    src = tmp_path / "absurd.csg"
+    src.write_text(make())
+    out = tmp_path / "out.csg"
+    proc = subprocess.run([CLI, "optimize", str(src), "-o", str(out)], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2 and message in proc.stderr and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert not out.exists()
+
+
+def test_a_wide_union_of_copies_comes_back_as_one_primitive(tmp_path):
+    src = tmp_path / "copies.csg"
+    src.write_text("union() {\n" + "cube(size = [1, 2, 3], center = false);\n" * 50000 + "}\n")
+    r = csgfit.optimize(str(src))
+    assert r.primitives_before == 50000 and r.primitives_after == 1

@@ -8,6 +8,8 @@
 #include <unordered_map>
 
 #include "csgfit/error.h"
+#include "csgfit/model/memory_budget.h"
+#include "csgfit/optimise/sample_set.h"
 #include "io/input_file.h"
 #include "matrix4.h"
 #include "shapes.h"
@@ -138,6 +140,9 @@ struct Builder {
     key.append(reinterpret_cast<const char*>(m.data()), sizeof(double) * m.size());
     const auto [at, fresh] = index_of.emplace(std::move(key), static_cast<int>(halfspaces.size()));
     if (!fresh) return Expr::halfspace(at->second);
+    if (halfspaces.size() >= opt::kMaxHalfspaces)  // refused while reading, before it costs more
+      throw InputError(file + ": the program has more than " + std::to_string(opt::kMaxHalfspaces) +
+                       " distinct primitives; optimize takes at most " + std::to_string(opt::kMaxHalfspaces));
     halfspaces.push_back(std::move(h));
     leaves.push_back({m, call_text(c), c.line});
     return Expr::halfspace(static_cast<int>(halfspaces.size() - 1));
@@ -224,10 +229,27 @@ ScadProgram program_from_csg(const std::vector<ScadCall>& calls, std::string_vie
   return p;
 }
 
+// Primitive calls in the text, counted before parsing (a parsed call takes a few hundred bytes).
+std::size_t primitive_calls(const std::string& text) {
+  std::size_t n = 0;
+  for (const char* name : {"cube", "sphere", "cylinder", "polyhedron", "circle", "square", "polygon"}) {
+    const std::string call = std::string(name) + "(";
+    for (std::size_t at = text.find(call); at != std::string::npos; at = text.find(call, at + call.size())) ++n;
+  }
+  return n;
+}
+
+constexpr std::size_t kMaxPrimitiveCalls = 200000;
+
 ScadProgram read_openscad_program(const std::string& path) {
   const bool scad = path.size() >= 5 && (path.compare(path.size() - 5, 5, ".scad") == 0 ||
                                          path.compare(path.size() - 5, 5, ".SCAD") == 0);
   const std::string text = scad ? flatten_scad_with_openscad(path) : io_detail::read_whole_file(path, 512LL << 20, "too large for a CSG program", io_detail::FileContent::Text);
+  if (const std::size_t n = primitive_calls(text); n > kMaxPrimitiveCalls)
+    throw InputError(path + ": the program has " + std::to_string(n) + " primitive calls; optimize reads at most " +
+                     std::to_string(kMaxPrimitiveCalls));
+  // The parsed calls take some tens of bytes per byte of text (numbers become values).
+  check_allocation(48.0 * static_cast<double>(text.size()), "the parsed CSG program");
   const std::vector<ScadCall> calls = parse_openscad_csg(text, path);
   return program_from_csg(calls, text, path);
 }

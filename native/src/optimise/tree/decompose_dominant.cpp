@@ -5,7 +5,7 @@ namespace csgfit::opt {
 
 template <std::size_t D>
 void order_by_proximity(std::vector<Expr>& operands, const SampleSet<D>& s) {
-  if (operands.size() < 3) return;
+  if (operands.size() < 3 || operands.size() > 256) return;  // quadratic: wide chains keep their order
   std::vector<Column> cols;
   for (const Expr& e : operands) cols.push_back(s.evaluate(e));
   Column acc = cols[0];

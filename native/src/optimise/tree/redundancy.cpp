@@ -64,6 +64,9 @@ bool confirmed_redundant(const Expr& e, const std::vector<bool>& known, std::siz
 // makes every removal safe whatever the opaque solid is).
 template <std::size_t D>
 std::size_t drop_redundant_operands(Expr& e, const SampleSet<D>& s) {
+  // Each operand is tested against all the others: past this width the exact rules (identical
+  // operands) are what a machine-made tree gets, so that the time stays bounded.
+  if (e.kids.size() > 256) return 0;
   std::vector<bool> known;
   std::vector<Column> cols = operand_columns(e, s, known);
   const bool difference = e.op == ExprOp::Difference;
@@ -111,13 +114,19 @@ template <std::size_t D>
 void count_pairs(const Expr& e, const SampleSet<D>& s, std::size_t& pairs, std::size_t& overlapping) {
   for (const Expr& k : e.kids) count_pairs(k, s, pairs, overlapping);
   if (e.kids.size() < 2 || e.op == ExprOp::Complement) return;
-  Expr acc = e.kids[0];
+  bool acc_known = !has_opaque(e.kids[0]);
+  Column acc = acc_known ? s.evaluate(e.kids[0]) : Column();
   for (std::size_t i = 1; i < e.kids.size(); ++i) {
-    if (!has_opaque(acc) && !has_opaque(e.kids[i])) {
-      ++pairs;
-      overlapping += any_common(s.evaluate(acc), s.evaluate(e.kids[i]));
+    const bool known = acc_known && !has_opaque(e.kids[i]);
+    if (!known) {
+      acc_known = false;
+      continue;
     }
-    acc = Expr::make(e.op, {std::move(acc), e.kids[i]});
+    const Column c = s.evaluate(e.kids[i]);
+    ++pairs;
+    overlapping += any_common(acc, c);
+    for (std::size_t w = 0; w < acc.size(); ++w)
+      acc[w] = e.op == ExprOp::Union ? acc[w] | c[w] : e.op == ExprOp::Intersection ? acc[w] & c[w] : acc[w] & ~c[w];
   }
 }
 

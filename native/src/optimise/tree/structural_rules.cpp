@@ -2,19 +2,28 @@
 
 #include <algorithm>
 #include <map>
+#include <unordered_map>
 
 namespace csgfit::opt {
 namespace {
 
 bool is(const Expr& e, ExprOp op) { return e.op == op; }
 
-// Dedupes structurally equal operands, keeping the first of each.
+// Beyond this many operands the rules that compare every pair (absorption, the differences'
+// factoring) are skipped: a 10^6-wide union stays linear.
+constexpr std::size_t kPairwiseOperands = 2000;
+
+// Dedupes structurally equal operands, keeping the first of each (hashed: linear in width).
 bool dedupe(std::vector<Expr>& kids, std::size_t from = 0) {
   const std::size_t before = kids.size();
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> seen;
   std::vector<Expr> out(kids.begin(), kids.begin() + static_cast<std::ptrdiff_t>(from));
   for (std::size_t i = from; i < kids.size(); ++i) {
-    if (std::find(out.begin() + static_cast<std::ptrdiff_t>(from), out.end(), kids[i]) == out.end())
-      out.push_back(std::move(kids[i]));
+    std::vector<std::size_t>& same_hash = seen[structural_hash(kids[i])];
+    const bool repeated = std::any_of(same_hash.begin(), same_hash.end(), [&](std::size_t j) { return out[j] == kids[i]; });
+    if (repeated) continue;
+    same_hash.push_back(out.size());
+    out.push_back(std::move(kids[i]));
   }
   kids = std::move(out);
   return kids.size() != before;
@@ -154,9 +163,10 @@ std::size_t rewrite_associative(Expr& e, ExprOp absorbing, ExprOp neutral, ExprO
                e.kids.end());
   n += before != e.kids.size();
   n += dedupe(e.kids);
-  n += absorb(e, dual);
+  const bool pairwise = e.kids.size() <= kPairwiseOperands;
+  if (pairwise) n += absorb(e, dual);
   if (e.kids.size() > 1 && factor_common(e, dual)) ++n;
-  if (e.op == ExprOp::Union && e.kids.size() > 1 && factor_differences(e)) ++n;
+  if (pairwise && e.op == ExprOp::Union && e.kids.size() > 1 && factor_differences(e)) ++n;
   if (e.kids.empty()) {
     e = neutral == ExprOp::Empty ? Expr::empty() : Expr::universe();
     return n + 1;
