@@ -226,7 +226,7 @@ def report(rows, args):
          and min(r["opt_iou"] for r in ok) >= 0.999),
         ("inflated programs come back to <= 1.05 x their size before inflation on average",
          bool(inflated) and statistics.mean(ratio(r) for r in inflated) <= 1.05),
-        (">= 90 %% of inflated runs come back to <= their size before inflation",
+        (">= 90 % of inflated runs come back to <= their size before inflation",
          bool(inflated) and sum(r["opt_size"] <= r["size"] for r in inflated) >= 0.9 * len(inflated)),
         ("an uninflated program never grows", bool(as_is) and all(r["opt_size"] <= r["size"] for r in as_is)),
         ("median optimisation time <= 2 s", bool(ok) and statistics.median(r["opt_seconds"] for r in ok) <= 2)]
