@@ -176,7 +176,10 @@ class OptimizeTreeCommand:
                            "Part boolean tree (the original is hidden, one undo step)"}
 
     def IsActive(self):
-        return App.ActiveDocument is not None and bool(Gui.Selection.getSelection())
+        from .optimize_tree import is_boolean_tree
+
+        selection = Gui.Selection.getSelection()
+        return App.ActiveDocument is not None and bool(selection) and is_boolean_tree(selection[0])
 
     def Activated(self):
         from .optimize_tree import optimize_object

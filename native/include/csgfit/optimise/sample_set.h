@@ -46,15 +46,12 @@ class SampleSet {
   bool is_empty(const Expr& e) const;
   /// Conservative bounds of the expression's solid; `empty` when they are empty.
   Box<D> bounds_of(const Expr& e, bool& empty) const;
-  /// Whether every sample of `a` is a sample of `b`.
-  bool is_subset(const Expr& a, const Expr& b) const;
   /// Number of empty-set decisions asked and answered from the cache.
   std::size_t decisions() const { return decisions_; }
   std::size_t cache_hits() const { return cache_hits_; }
 
  private:
   Column evaluate_range(const Expr& e, std::size_t w0, std::size_t w1) const;
-  bool contains(const Expr& e, const Point<D>& p) const;
   bool dense_empty(const Expr& e) const;
   const HalfspaceList<D>* halfspaces_ = nullptr;
   Box<D> domain_;
@@ -65,6 +62,11 @@ class SampleSet {
   mutable std::unordered_map<std::uint64_t, bool> empty_cache_;
   mutable std::size_t decisions_ = 0, cache_hits_ = 0;
 };
+
+/// Whether the point is inside the expression, tested pointwise (no opaque leaves allowed:
+/// std::logic_error).
+template <std::size_t D>
+bool contains(const Expr& e, const HalfspaceList<D>& halfspaces, const Point<D>& p);
 
 /// Whether any bit is set.
 bool any(const Column& c);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "csgfit/error.h"
+#include "csgfit/optimise/sample_set.h"
 #include "matrix4.h"
 
 namespace csgfit::scad_shapes {
@@ -271,24 +272,7 @@ opt::Halfspace<3> extrusion(const ScadCall& c, std::shared_ptr<const Solid2D> se
   });
 }
 
-bool Solid2D::contains(const Point<2>& p) const {
-  std::function<bool(const opt::Expr&)> eval = [&](const opt::Expr& e) -> bool {
-    switch (e.op) {
-      case opt::ExprOp::Halfspace: {
-        const auto& h = halfspaces[static_cast<std::size_t>(e.index)];
-        return h.bounds.contains(p) && h.contains(p);
-      }
-      case opt::ExprOp::Union: return std::any_of(e.kids.begin(), e.kids.end(), eval);
-      case opt::ExprOp::Intersection: return std::all_of(e.kids.begin(), e.kids.end(), eval);
-      case opt::ExprOp::Difference:
-        return eval(e.kids[0]) && std::none_of(e.kids.begin() + 1, e.kids.end(), eval);
-      case opt::ExprOp::Complement: return !eval(e.kids[0]);
-      case opt::ExprOp::Universe: return true;
-      default: return false;
-    }
-  };
-  return eval(tree);
-}
+bool Solid2D::contains(const Point<2>& p) const { return opt::contains(tree, halfspaces, p); }
 
 Box<2> Solid2D::bounds() const {
   Box<2> b{{0, 0}, {0, 0}};

@@ -207,29 +207,20 @@ Box<D> SampleSet<D>::bounds_of(const Expr& e, bool& empty) const {
 }
 
 template <std::size_t D>
-bool SampleSet<D>::contains(const Expr& e, const Point<D>& p) const {
+bool contains(const Expr& e, const HalfspaceList<D>& halfspaces, const Point<D>& p) {
+  const auto in = [&](const Expr& k) { return contains(k, halfspaces, p); };
   switch (e.op) {
     case ExprOp::Halfspace: {
-      const Halfspace<D>& h = (*halfspaces_)[static_cast<std::size_t>(e.index)];
+      const Halfspace<D>& h = halfspaces[static_cast<std::size_t>(e.index)];
       return h.bounds.contains(p) && h.contains(p);
     }
     case ExprOp::Empty: return false;
     case ExprOp::Universe: return true;
-    case ExprOp::Complement: return !contains(e.kids[0], p);
-    case ExprOp::Union:
-      for (const Expr& k : e.kids)
-        if (contains(k, p)) return true;
-      return false;
-    case ExprOp::Intersection:
-      for (const Expr& k : e.kids)
-        if (!contains(k, p)) return false;
-      return true;
-    case ExprOp::Difference:
-      if (!contains(e.kids[0], p)) return false;
-      for (std::size_t i = 1; i < e.kids.size(); ++i)
-        if (contains(e.kids[i], p)) return false;
-      return true;
-    default: throw std::logic_error("SampleSet: an opaque leaf cannot be sampled");
+    case ExprOp::Complement: return !in(e.kids[0]);
+    case ExprOp::Union: return std::any_of(e.kids.begin(), e.kids.end(), in);
+    case ExprOp::Intersection: return std::all_of(e.kids.begin(), e.kids.end(), in);
+    case ExprOp::Difference: return in(e.kids[0]) && std::none_of(e.kids.begin() + 1, e.kids.end(), in);
+    default: throw std::logic_error("contains: an opaque leaf cannot be sampled");
   }
 }
 
@@ -260,15 +251,12 @@ bool SampleSet<D>::dense_empty(const Expr& e) const {
     if (overlap) add_jittered_grid(b, per, rng, points);
   }
   for (const Point<D>& p : points)
-    if (contains(e, p)) return false;
+    if (contains(e, *halfspaces_, p)) return false;
   return true;
 }
 
-template <std::size_t D>
-bool SampleSet<D>::is_subset(const Expr& a, const Expr& b) const {
-  return is_empty(Expr::make(ExprOp::Difference, {a, b}));
-}
-
+template bool contains<2>(const Expr&, const HalfspaceList<2>&, const Point<2>&);
+template bool contains<3>(const Expr&, const HalfspaceList<3>&, const Point<3>&);
 template class SampleSet<2>;
 template class SampleSet<3>;
 
