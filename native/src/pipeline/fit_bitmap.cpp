@@ -19,6 +19,7 @@
 #include "csgfit/seed/decompose2d.h"
 #include "csgfit/seed/greedy2d.h"
 #include "pipeline/fit_request.h"
+#include "pipeline/problems.h"
 #include "search/islands.h"
 #include "search/operators2d.h"
 
@@ -28,13 +29,9 @@ double default_k(int width, int height) {
   return 25.0 * static_cast<double>(width) * static_cast<double>(height) / (128.0 * 128.0);
 }
 
-namespace {
-
 using Clock = std::chrono::steady_clock;
-using Candidate = Candidate2D;
-using Island = islands::Island<Operators2D>;
 
-Problem2D make_problem(const Bitmap& target, const FitOptions& options, Clock::time_point start) {
+Problem2D make_problem2d(const Bitmap& target, const FitOptions& options, Clock::time_point start) {
   Problem2D pb;
   pb.target = &target;
   pb.k = options.k >= 0 ? options.k : default_k(target.width(), target.height());
@@ -52,16 +49,9 @@ Problem2D make_problem(const Bitmap& target, const FitOptions& options, Clock::t
   return pb;
 }
 
-// The two deterministic first trees, scored as the search scores its trees (a candidate
-// without primitives where a seed does not apply).
-struct Seeds {
-  Candidate decomposition;  // seed 003, locally optimised
-  Candidate greedy;         // the greedy residual cover
-};
-
-Seeds seed_trees(const Bitmap& target, const FitOptions& options, const Problem2D& pb,
-                 Operators2D& ops, Clock::time_point start, std::size_t& evaluations) {
-  Seeds s;
+SeedTrees2D seed_trees2d(const Bitmap& target, const FitOptions& options, const Problem2D& pb,
+                         Operators2D& ops, Clock::time_point start, std::size_t& evaluations) {
+  SeedTrees2D s;
   if (!pb.params.seed_with_decomposition) return s;
   if (options.primitives.has(PrimitiveKind::Rectangle)) {
     DecomposeOptions dopt;
@@ -83,6 +73,12 @@ Seeds seed_trees(const Bitmap& target, const FitOptions& options, const Problem2
   s.greedy = ops.evaluate(greedy_cover(target, gopt), {});
   return s;
 }
+
+namespace {
+
+using Candidate = Candidate2D;
+using Island = islands::Island<Operators2D>;
+using Seeds = SeedTrees2D;
 
 // Initial populations, built in parallel: the seed trees (alternating) where there are any,
 // seed 000's random trees otherwise.
@@ -176,7 +172,7 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
   const auto start = Clock::now();
   check_search_options(options.time_limit, options.threads, options.k);
   check_fit_request(target, options.primitives, options.time_limit);
-  const Problem2D pb = make_problem(target, options, start);
+  const Problem2D pb = make_problem2d(target, options, start);
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
 
   const int count =
@@ -184,7 +180,7 @@ FitResult fit_bitmap(const Bitmap& target, const FitOptions& options,
   const std::size_t per_island = static_cast<std::size_t>(std::max(2, pb.params.population / count));
   std::vector<Island> isles = islands::make_islands<Operators2D>(pb, options.seed, count);
   std::size_t evaluations = 0;
-  const Seeds seeds = seed_trees(target, options, pb, isles[0].ops, start, evaluations);
+  const Seeds seeds = seed_trees2d(target, options, pb, isles[0].ops, start, evaluations);
   fill_populations(isles, seeds, pb, per_island, [&] {
     return (cancel && cancel->load(std::memory_order_relaxed)) || elapsed() >= options.time_limit;
   });

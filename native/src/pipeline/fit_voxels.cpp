@@ -13,6 +13,7 @@
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose3d.h"
 #include "pipeline/fit_request.h"
+#include "pipeline/problems.h"
 #include "search/islands.h"
 #include "search/operators3d.h"
 
@@ -23,14 +24,10 @@ double default_k3d(const VoxelGrid& target) {
   return std::max(8.0, 200.0 * n / 1e6);
 }
 
-namespace {
-
 using Clock = std::chrono::steady_clock;
-using Candidate = Candidate3D;
-using Island = islands::Island<Operators3D>;
 
-Problem3D make_problem(const VoxelGrid& target, const FitOptions3D& options,
-                       Clock::time_point start, const std::atomic<bool>* cancel) {
+Problem3D make_problem3d(const VoxelGrid& target, const FitOptions3D& options,
+                         Clock::time_point start, const std::atomic<bool>* cancel) {
   Problem3D pb;
   pb.target = &target;
   pb.k = options.k >= 0 ? options.k : default_k3d(target);
@@ -55,13 +52,9 @@ Problem3D make_problem(const VoxelGrid& target, const FitOptions3D& options,
   return pb;
 }
 
-// The first tree: seed 003 in 3D, every leaf optimised, pruned. Returns it scored, and when
-// the search must stop so that the final polish, which costs about what the seed's did, fits
-// in the budget.
-Candidate seed_tree(const VoxelGrid& target, const FitOptions3D& options, const Problem3D& pb,
-                    Operators3D& ops, Clock::time_point start, const std::atomic<bool>* cancel,
-                    std::size_t& evaluations, double& search_limit) {
-  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+Node3D first_tree3d(const VoxelGrid& target, const FitOptions3D& options, const Problem3D& pb,
+                    Clock::time_point start, const std::atomic<bool>* cancel,
+                    std::size_t& evaluations, double* polish_seconds) {
   DecomposeOptions3D dopt;
   dopt.primitives = options.primitives;
   dopt.primitives.bits &= PrimitiveSet3D::matchable().bits;
@@ -72,14 +65,30 @@ Candidate seed_tree(const VoxelGrid& target, const FitOptions3D& options, const 
   LocalOptOptions polish = LocalOptOptions::pattern(20, 1.0, 0.25);
   polish.deadline = at_fraction(start, options.time_limit, 0.6);
   polish.cancel = cancel;
-  const double polish_start = elapsed();
+  const auto polish_start = Clock::now();
   {
     TreeEvaluator3D ev(target, tree);
     optimize_leaves(ev, polish);
     evaluations += ev.evaluations();
   }
-  search_limit =
-      std::max(0.5 * options.time_limit, options.time_limit - 2.0 * (elapsed() - polish_start));
+  if (polish_seconds)
+    *polish_seconds = std::chrono::duration<double>(Clock::now() - polish_start).count();
+  return tree;
+}
+
+namespace {
+
+using Candidate = Candidate3D;
+using Island = islands::Island<Operators3D>;
+
+// The first tree, scored and pruned, and when the search must stop so that the final polish,
+// which costs about what the first tree's did, fits in the budget.
+Candidate seed_tree(const VoxelGrid& target, const FitOptions3D& options, const Problem3D& pb,
+                    Operators3D& ops, Clock::time_point start, const std::atomic<bool>* cancel,
+                    std::size_t& evaluations, double& search_limit) {
+  double polish_seconds = 0;
+  Node3D tree = first_tree3d(target, options, pb, start, cancel, evaluations, &polish_seconds);
+  search_limit = std::max(0.5 * options.time_limit, options.time_limit - 2.0 * polish_seconds);
   Candidate best = ops.evaluate(std::move(tree), {}, false);
   ops.accept(best);
   return best;
@@ -117,7 +126,7 @@ FitResult3D fit_voxels(const VoxelGrid& target, const FitOptions3D& options,
   check_fit_request(target, options.primitives, options.time_limit);
   if (!options.primitives.has(PrimitiveKind3D::Box))
     throw std::invalid_argument("the 3D fit needs boxes among the primitives");
-  const Problem3D pb = make_problem(target, options, start, cancel);
+  const Problem3D pb = make_problem3d(target, options, start, cancel);
 
   std::vector<Island> isles =
       islands::make_islands<Operators3D>(pb, options.seed, islands::island_count(options.threads));

@@ -18,7 +18,7 @@ using rnd::pick;
 using rnd::uniform;
 using search_ops::Operator;
 
-Candidate2D Operators2D::evaluate(Node tree, const std::vector<Primitive>& fresh) {
+Candidate2D Operators2D::evaluate(Node tree, const std::vector<Primitive>& fresh, bool pruned) {
   Candidate c;
   if (!simplify(tree)) {
     c.score = std::numeric_limits<double>::infinity();
@@ -29,7 +29,7 @@ Candidate2D Operators2D::evaluate(Node tree, const std::vector<Primitive>& fresh
     search_ops::optimise_perturbed(ev, fresh, pb_.new_leaf_opt, &pb_.all_leaf_opt);
     evaluations += ev.evaluations();
   }
-  prune(tree, *pb_.target, pb_.k);
+  if (pruned) prune(tree, *pb_.target, pb_.k);
   TreeEvaluator ev(*pb_.target, tree);
   evaluations += ev.evaluations() + tree.primitive_count();
   c.mismatch = ev.mismatch();
@@ -77,12 +77,10 @@ void Operators2D::rep(Node& tree, std::size_t n, std::vector<Primitive>& fresh) 
   *at = random_subtree(norm_count(rng_, e, pb_.params.added_size_sd), fresh);
 }
 
-bool Operators2D::add(Node& tree, std::vector<Primitive>& fresh) {
-  const bool as_union = rng_() & 1;
+bool Operators2D::added_subtree(bool as_union, Node& added, std::vector<Primitive>& fresh) {
   const std::vector<DistancePeak>& peaks = as_union ? pb_.shape_peaks : pb_.background_peaks;
   if (peaks.empty()) return false;
   const int count = norm_count(rng_, pb_.params.added_size_mean, pb_.params.added_size_sd);
-  Node added;
   for (int i = 0; i < count; ++i) {
     // Bigger peaks first, but any of them may be chosen.
     const std::size_t j = std::min(pick(rng_, peaks.size()), pick(rng_, peaks.size()));
@@ -92,10 +90,24 @@ bool Operators2D::add(Node& tree, std::vector<Primitive>& fresh) {
     fresh.push_back(p);
     added = (i == 0) ? Node::leaf(p) : Node::op(NodeKind::Union, {std::move(added), Node::leaf(p)});
   }
+  return true;
+}
+
+bool Operators2D::add(Node& tree, std::vector<Primitive>& fresh) {
+  const bool as_union = rng_() & 1;
+  Node added;
+  if (!added_subtree(as_union, added, fresh)) return false;
   const std::size_t n = tree.node_count();
   Node* at = (rng_() % 2 == 0) ? &tree : node_at(tree, pick(rng_, n));
   graft(*at, as_union ? NodeKind::Union : NodeKind::Difference, std::move(added));
   return true;
+}
+
+Primitive Operators2D::rekinded(Primitive p, PrimitiveKind kind) {
+  p.kind = kind;
+  if (kind == PrimitiveKind::Triangle) p.apex = std::round(uniform(rng_, -1, 1));
+  p.normalize();
+  return p;
 }
 
 bool Operators2D::mod(Node& tree, std::vector<Primitive>& fresh) {
@@ -105,9 +117,7 @@ bool Operators2D::mod(Node& tree, std::vector<Primitive>& fresh) {
   PrimitiveKind kind;
   do kind = pb_.kinds[pick(rng_, pb_.kinds.size())];
   while (kind == p->kind);
-  p->kind = kind;
-  if (kind == PrimitiveKind::Triangle) p->apex = std::round(uniform(rng_, -1, 1));
-  p->normalize();
+  *p = rekinded(*p, kind);
   fresh.push_back(*p);
   return true;
 }

@@ -41,8 +41,8 @@ class Operators2D : public search_ops::IslandOperators<Problem2D> {
   using IslandOperators::IslandOperators;
 
   /// Scores a tree after optimising the leaves equal to one of `fresh`, then all leaves a
-  /// little, and pruning it.
-  Candidate evaluate(Node tree, const std::vector<Primitive>& fresh);
+  /// little, and pruning it (unless `pruned` is false: a morph's trees keep their structure).
+  Candidate evaluate(Node tree, const std::vector<Primitive>& fresh, bool pruned = true);
   /// A child of `parent`: one perturbation drawn by the odds, then evaluate().
   Candidate perturb(const Candidate& parent);
   /// Nothing to do: evaluate() already pruned the child.
@@ -50,6 +50,11 @@ class Operators2D : public search_ops::IslandOperators<Problem2D> {
   /// Seed 000's random subtree of `count` primitives: uniform positions in the middle half,
   /// random operators.
   Node random_subtree(int count, std::vector<Primitive>& fresh);
+  /// ADD's new subtree: a' primitives at peaks of the target's distance map (of its
+  /// complement when it is to be cut), unioned; false when there is no such peak.
+  bool added_subtree(bool as_union, Node& added, std::vector<Primitive>& fresh);
+  /// MOD's new primitive: `p` as another kind in the same place.
+  Primitive rekinded(Primitive p, PrimitiveKind kind);
 
  private:
   Primitive random_primitive(double cx, double cy, double size);

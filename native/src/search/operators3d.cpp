@@ -93,12 +93,11 @@ void Operators3D::accept(Candidate& c) {
   c.result = ev.result();
 }
 
-bool Operators3D::add(Node3D& tree, const VoxelGrid& raster, std::vector<Primitive3D>& fresh) {
-  const bool as_union = rng_() & 1;
+std::optional<Primitive3D> Operators3D::residual_match(const VoxelGrid& raster, bool as_union) {
   VoxelGrid residual = as_union ? *pb_.target : raster;
   residual.subtract(as_union ? raster : *pb_.target);
   std::vector<Region3D> comps = connected_regions3d(erode6(residual), 6);
-  if (comps.empty()) return false;
+  if (comps.empty()) return std::nullopt;
   std::stable_sort(comps.begin(), comps.end(),
                    [](const Region3D& a, const Region3D& b) { return a.volume > b.volume; });
   const std::size_t n = std::min<std::size_t>(comps.size(), 6);
@@ -107,17 +106,42 @@ bool Operators3D::add(Node3D& tree, const VoxelGrid& raster, std::vector<Primiti
   const int lo[3] = {core.lo[0] - 1, core.lo[1] - 1, core.lo[2] - 1};
   const int hi[3] = {core.hi[0] + 1, core.hi[1] + 1, core.hi[2] + 1};
   std::vector<Region3D> around = connected_regions3d(crop(residual, lo, hi, 0), 6);
-  if (around.empty()) return false;
+  if (around.empty()) return std::nullopt;
   const Region3D* region = &around.front();
   for (const Region3D& r : around)
     if (r.volume > region->volume) region = &r;
   auto match = match_region3d(region->mask, pb_.primitives);
+  if (!match) return std::nullopt;
+  return match->primitive;
+}
+
+bool Operators3D::add(Node3D& tree, const VoxelGrid& raster, std::vector<Primitive3D>& fresh) {
+  const bool as_union = rng_() & 1;
+  const std::optional<Primitive3D> match = residual_match(raster, as_union);
   if (!match) return false;
-  fresh.push_back(match->primitive);
+  fresh.push_back(*match);
   const std::size_t nodes = tree.node_count();
   Node3D* at = (rng_() % 2 == 0) ? &tree : node_at(tree, pick(rng_, nodes));
-  graft(*at, as_union ? NodeKind::Union : NodeKind::Difference, Node3D::leaf(match->primitive));
+  graft(*at, as_union ? NodeKind::Union : NodeKind::Difference, Node3D::leaf(*match));
   return true;
+}
+
+Primitive3D Operators3D::changed_kind(const Primitive3D& p, bool new_orientation) {
+  PrimitiveKind3D kind = pb_.kinds[pick(rng_, pb_.kinds.size())];
+  if (!new_orientation)
+    while (kind == p.kind) kind = pb_.kinds[pick(rng_, pb_.kinds.size())];
+  Vec3 he = half_extents(p);
+  Primitive3D np = p;
+  if (new_orientation) {
+    for (double& h : he) h *= uniform(rng_, 0.6, 1.4);
+    np.rotation = Quaternion::from_euler_deg(uniform(rng_, -180, 180), uniform(rng_, -90, 90),
+                                             uniform(rng_, -180, 180));
+  }
+  return with_kind(np, kind, he);
+}
+
+Primitive3D Operators3D::rekinded(const Primitive3D& p, PrimitiveKind3D kind) {
+  return with_kind(p, kind, half_extents(p));
 }
 
 // MOD (same place and size, another kind) or REP (another kind, a new orientation).
@@ -125,33 +149,29 @@ bool Operators3D::change_kind(Node3D& tree, std::vector<Primitive3D>& fresh, boo
   if (pb_.kinds.size() < 2 && !new_orientation) return false;
   std::vector<Primitive3D*> ls = leaves(tree);
   Primitive3D* p = ls[pick(rng_, ls.size())];
-  PrimitiveKind3D kind = pb_.kinds[pick(rng_, pb_.kinds.size())];
-  if (!new_orientation)
-    while (kind == p->kind) kind = pb_.kinds[pick(rng_, pb_.kinds.size())];
-  Vec3 he = half_extents(*p);
-  Primitive3D np = *p;
-  if (new_orientation) {
-    for (double& h : he) h *= uniform(rng_, 0.6, 1.4);
-    np.rotation = Quaternion::from_euler_deg(uniform(rng_, -180, 180), uniform(rng_, -90, 90),
-                                             uniform(rng_, -180, 180));
-  }
-  *p = with_kind(np, kind, he);
+  *p = changed_kind(*p, new_orientation);
   fresh.push_back(*p);
   return true;
+}
+
+std::optional<Primitive3D> Operators3D::trimming_hull() {
+  if (pb_.hulls.empty()) return std::nullopt;
+  Primitive3D hull = pb_.hulls[pick(rng_, pb_.hulls.size())];
+  const double grow = uniform(rng_, 1.0, 1.3);
+  for (double& d : hull.dims) d *= grow;
+  hull.normalize();
+  return hull;
 }
 
 // INT: the tree (or a subtree) intersected with a round primitive matched to the whole
 // target, a little larger than the match so that it trims rather than eats.
 bool Operators3D::intersect(Node3D& tree, std::vector<Primitive3D>& fresh) {
-  if (pb_.hulls.empty()) return false;
-  Primitive3D hull = pb_.hulls[pick(rng_, pb_.hulls.size())];
-  const double grow = uniform(rng_, 1.0, 1.3);
-  for (double& d : hull.dims) d *= grow;
-  hull.normalize();
-  fresh.push_back(hull);
+  const std::optional<Primitive3D> hull = trimming_hull();
+  if (!hull) return false;
+  fresh.push_back(*hull);
   const std::size_t nodes = tree.node_count();
   Node3D* at = (rng_() % 4 != 0) ? &tree : node_at(tree, pick(rng_, nodes));
-  graft(*at, NodeKind::Intersection, Node3D::leaf(hull));
+  graft(*at, NodeKind::Intersection, Node3D::leaf(*hull));
   return true;
 }
 

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "csgfit/eval/mismatch.h"
@@ -51,6 +52,16 @@ class Operators3D : public search_ops::IslandOperators<Problem3D> {
   Candidate perturb(const Candidate& parent);
   /// Prunes an accepted tree and rescores it.
   void accept(Candidate& c);
+  /// ADD's new primitive: seed 003's match to the thick part of what `raster` (the tree's
+  /// voxels) misses (as_union) or adds; nothing when the residual is thin everywhere.
+  std::optional<Primitive3D> residual_match(const VoxelGrid& raster, bool as_union);
+  /// INT's new primitive: a round primitive matched to the whole target, a little larger.
+  std::optional<Primitive3D> trimming_hull();
+  /// MOD's (same place and size) or REP's (a new orientation) new primitive: `p` as another
+  /// kind (REP may keep the kind).
+  Primitive3D changed_kind(const Primitive3D& p, bool new_orientation);
+  /// `p` as `kind` with the same centre, orientation and extents.
+  static Primitive3D rekinded(const Primitive3D& p, PrimitiveKind3D kind);
 
  private:
   // ADD at the residual: the thick part of what the tree gets wrong, matched by seed 003's
