@@ -110,4 +110,40 @@ void write_circle_radius(std::ostream& out, CircleFit fit) {
   }
 }
 
+void write_morph_slider(std::ostream& out, const std::string& source_a, const std::string& source_b) {
+  out << "/* [Morph] */\n";
+  out << "// 0 = " << comment_safe(source_a.empty() ? "shape A" : source_a) << ", 1 = "
+      << comment_safe(source_b.empty() ? "shape B" : source_b)
+      << "; -1 follows $t, so View > Animate plays the morph.\n";
+  out << "morph = -1; // [-1:0.01:1]\n\n";
+}
+
+void write_morph_tabs(std::ostream& out, const std::vector<Tab>& a, const std::vector<Tab>& b) {
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    out << "/* [" << a[i].title << "] */\n";
+    for (std::size_t j = 0; j < a[i].vars.size(); ++j) {
+      const Var& va = a[i].vars[j];
+      const Var& vb = b[i].vars[j];
+      if (va.value == vb.value) {
+        out << va.name << " = " << va.value << "; // " << va.range << "\n";
+        continue;
+      }
+      out << va.name << "_a = " << va.value << "; // " << va.range << "\n";
+      out << vb.name << "_b = " << vb.value << "; // " << vb.range << "\n";
+    }
+    out << "\n";
+  }
+}
+
+void write_morph_values(std::ostream& out, const std::vector<Tab>& a, const std::vector<Tab>& b) {
+  out << "m = morph < 0 ? $t : morph;\n";
+  out << "function mix(at_a, at_b) = at_a + (at_b - at_a) * m;\n";
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t j = 0; j < a[i].vars.size(); ++j)
+      if (a[i].vars[j].value != b[i].vars[j].value)
+        out << a[i].vars[j].name << " = mix(" << a[i].vars[j].name << "_a, " << a[i].vars[j].name
+            << "_b);\n";
+  out << "\n";
+}
+
 }  // namespace csgfit::scad

@@ -89,6 +89,17 @@ void write_resolution(std::ostream& out, int fn);
 /// Every primitive's tab of parameters.
 void write_tabs(std::ostream& out, const std::vector<Tab>& tabs);
 
+/// A morph's slider: `morph` (Customizer shows literals only, so its default -1 stands for $t)
+/// and `m`, the morph the file draws.
+void write_morph_slider(std::ostream& out, const std::string& source_a, const std::string& source_b);
+
+/// A morph's tabs: each primitive's values at both ends (`name_a`, `name_b`), or once where
+/// both ends agree.
+void write_morph_tabs(std::ostream& out, const std::vector<Tab>& a, const std::vector<Tab>& b);
+
+/// mix() and every value the geometry uses as a mix of its two ends (after write_morph_tabs).
+void write_morph_values(std::ostream& out, const std::vector<Tab>& a, const std::vector<Tab>& b);
+
 /// fn_r(r): the radius a circle of radius r is drawn with as OpenSCAD's $fn-gon.
 void write_circle_radius(std::ostream& out, CircleFit fit);
 

@@ -33,4 +33,13 @@ struct ScadOptions {
 std::string to_scad(const Node& tree, const ModelFrame& frame, const ScadOptions& options = {},
                     const FitStats* stats = nullptr);
 
+/// Writes the morph from `a` (morph = 0) to `b` (morph = 1), two trees of one structure with
+/// b's angles ending a's turns, as one OpenSCAD model: a `morph` slider (-1, its default,
+/// follows $t so that View > Animate plays it; `openscad -D morph=0.3` renders a frame), each
+/// primitive's values at both ends as Customizer parameters (one when they agree), and every
+/// dimension mix(at A, at B). Sizes may be 0 (a primitive seen in one shape only).
+std::string to_scad_morph(const Node& a, const Node& b, const ModelFrame& frame,
+                          const std::string& source_b, const ScadOptions& options = {},
+                          const FitStats* stats_a = nullptr);
+
 }  // namespace csgfit

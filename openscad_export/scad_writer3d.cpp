@@ -1,5 +1,7 @@
 #include "scad_writer3d.h"
 
+#include "csgfit/model/interpolate.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -22,9 +24,19 @@ using namespace scad;
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 
+/// A morph's turn of one primitive: R(axis, t * degrees) after its rotation at A.
+struct Turn {
+  Vec3 axis{0, 0, 1};
+  double degrees = 0;
+};
+
 class Writer : public TreeWriter<Writer, Node3D> {
  public:
   Writer(int decimals, double extent) : decimals_(decimals), extent_(extent) {}
+  /// One end of a morph: sizes may be 0, and each primitive turns by `turns` (pre-order) on top
+  /// of its rotation (which the caller makes A's at both ends); `at_b` says which end.
+  Writer(int decimals, double extent, const std::vector<Turn>* turns, bool at_b)
+      : decimals_(decimals), extent_(extent), turns_(turns), at_b_(at_b) {}
 
   std::string primitive(const Primitive3D& p);
 
@@ -39,10 +51,21 @@ class Writer : public TreeWriter<Writer, Node3D> {
                        what);
     return v;
   }
-  static double check_size(double v, const char* what, const std::string& prim) {
+  double check_size(double v, const char* what, const std::string& prim) const {
     check(v, what, prim);
-    if (!(v > 0)) throw InputError("cannot write .scad: " + prim + " has a " + what + " <= 0");
+    if (!(v > 0) && !(turns_ && v == 0))
+      throw InputError("cannot write .scad: " + prim + " has a " + what + " <= 0");
     return v;
+  }
+
+  // A morph's turn of this primitive, before its own rotation: "" when it does not turn.
+  std::string turn(Tab& tab, const std::string& prefix) {
+    if (!turns_) return "";
+    const Turn& t = (*turns_)[static_cast<std::size_t>(count_ - 1)];
+    if (number(t.degrees, 6) == "0") return "";
+    const std::string a = add(tab, prefix, "turn", at_b_ ? t.degrees : 0.0, "[-180:0.1:180]", 6);
+    return "rotate(a = " + a + ", v = [" + number(t.axis[0], 9) + ", " + number(t.axis[1], 9) +
+           ", " + number(t.axis[2], 9) + "]) ";
   }
 
   double step() const { return slider_step(extent_); }
@@ -91,6 +114,8 @@ class Writer : public TreeWriter<Writer, Node3D> {
 
   int decimals_;
   double extent_;
+  const std::vector<Turn>* turns_ = nullptr;
+  bool at_b_ = false;
   bool spheres_ = false, circles_ = false, tori_ = false;
 };
 
@@ -117,7 +142,7 @@ std::string Writer::primitive(const Primitive3D& p) {
   const std::string vz = add(tab, prefix, "cz", check(p.cz, "centre z", what), position_range(p.cz), d);
   const Vec3& s = p.dims;
   std::string code = "translate([" + vx + ", " + vy + ", " + vz + "]) ";
-  if (p.kind != PrimitiveKind3D::Sphere) code += rotation(tab, prefix, p, what);
+  if (p.kind != PrimitiveKind3D::Sphere) code += turn(tab, prefix) + rotation(tab, prefix, p, what);
   switch (p.kind) {
     case PrimitiveKind3D::Box: {
       const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
@@ -142,7 +167,7 @@ std::string Writer::primitive(const Primitive3D& p) {
     case PrimitiveKind3D::Cone: {
       check(s[0], "bottom radius", what);
       check(s[1], "top radius", what);
-      if (s[0] < 0 || s[1] < 0 || !(std::max(s[0], s[1]) > 0))
+      if (s[0] < 0 || s[1] < 0 || (!turns_ && !(std::max(s[0], s[1]) > 0)))
         throw InputError("cannot write .scad: " + what + " has a negative or zero radius");
       const std::string r1 = length(tab, prefix, "r1", s[0]);
       const std::string r2 = length(tab, prefix, "r2", s[1]);
@@ -189,7 +214,21 @@ std::string Writer::primitive(const Primitive3D& p) {
 
 }  // namespace
 
-std::string to_scad(const Node3D& tree, const ScadOptions3D& options) {
+namespace {
+
+double model_extent(const Node3D& tree) {
+  double extent = 0;
+  for (const Primitive3D* p : leaves(tree)) {
+    const double size = std::max({p->dims[0], p->dims[1], p->dims[2]});
+    for (double c : {p->cx, p->cy, p->cz})
+      if (std::isfinite(c) && std::isfinite(size)) extent = std::max(extent, std::fabs(c) + 2 * size);
+  }
+  return extent;
+}
+
+// The file for `tree`, or for the morph from `tree` to `*morph_b` (same structure).
+std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const Node3D* morph_b,
+                      const std::string& source_b) {
   if (options.fn < 3 || options.fn > 10000)
     throw InputError("cannot write .scad: $fn must be between 3 and 10000");
   if (tree.primitive_count() == 0 || is_empty(tree))
@@ -197,29 +236,53 @@ std::string to_scad(const Node3D& tree, const ScadOptions3D& options) {
 
   // Sliders cover the model; values keep enough decimals that rounding moves a surface by
   // about 1e-5 of the model's size (and at least 4 decimals).
-  double extent = 0;
-  for (const Primitive3D* p : leaves(tree)) {
-    const double size = std::max({p->dims[0], p->dims[1], p->dims[2]});
-    for (double c : {p->cx, p->cy, p->cz})
-      if (std::isfinite(c) && std::isfinite(size)) extent = std::max(extent, std::fabs(c) + 2 * size);
-  }
+  const double extent = std::max(model_extent(tree), morph_b ? model_extent(*morph_b) : 0.0);
   const int decimals =
       extent > 0 ? std::clamp(static_cast<int>(std::ceil(5.0 - std::log10(extent))), 4, 12) : 4;
 
-  Writer writer(decimals, extent);
+  // A morph's B end is written with A's rotations and the turn from them to B's.
+  std::vector<Turn> turns;
+  Node3D b_turned;
+  if (morph_b) {
+    b_turned = *morph_b;
+    const std::vector<const Primitive3D*> la = leaves(tree);
+    const std::vector<Primitive3D*> lb = leaves(b_turned);
+    if (la.size() != lb.size())
+      throw InputError("cannot write .scad: the two trees of the morph differ in structure");
+    for (std::size_t i = 0; i < la.size(); ++i) {
+      Turn t;
+      relative_turn(la[i]->rotation, lb[i]->rotation, t.axis, t.degrees);
+      turns.push_back(t);
+      lb[i]->rotation = la[i]->rotation;
+    }
+  }
+  Writer writer = morph_b ? Writer(decimals, extent, &turns, false) : Writer(decimals, extent);
   const std::string body = writer.geometry(tree, 1);
+  std::vector<Tab> tabs_b;
+  if (morph_b) {
+    Writer other(decimals, extent, &turns, true);
+    if (other.geometry(b_turned, 1) != body)
+      throw InputError("cannot write .scad: the two trees of the morph differ in structure");
+    tabs_b = other.tabs();
+  }
   const std::string module = identifier(options.source, "model");
 
   std::ostringstream out;
   out << "// Generated by csgfit";
   if (!options.source.empty()) out << " from " << comment_safe(options.source);
+  if (morph_b) out << " (morph = 0) and " << comment_safe(source_b) << " (morph = 1)";
   out << "\n// Units: those of the source model (mm), z up.\n";
   if (!options.summary.empty()) out << "// Fit: " << comment_safe(options.summary) << "\n";
   out << "// Every dimension below is a Customizer parameter (Window > Customizer).\n\n";
+  if (morph_b) write_morph_slider(out, options.source, source_b);
   write_resolution(out, options.fn);
-  write_tabs(out, writer.tabs());
+  if (morph_b)
+    write_morph_tabs(out, writer.tabs(), tabs_b);
+  else
+    write_tabs(out, writer.tabs());
   out << "/* [Hidden] */\n";
   out << "$fn = segments;\n\n";
+  if (morph_b) write_morph_values(out, writer.tabs(), tabs_b);
   if (writer.uses_circles()) write_circle_radius(out, options.circle_fit);
   if (writer.uses_spheres()) {
     switch (options.circle_fit) {
@@ -257,6 +320,17 @@ std::string to_scad(const Node3D& tree, const ScadOptions3D& options) {
   out << "module " << module << "() {\n" << body << "}\n\n";
   out << module << "();\n";
   return out.str();
+}
+
+}  // namespace
+
+std::string to_scad(const Node3D& tree, const ScadOptions3D& options) {
+  return scad_text(tree, options, nullptr, {});
+}
+
+std::string to_scad_morph(const Node3D& a, const Node3D& b, const std::string& source_b,
+                          const ScadOptions3D& options) {
+  return scad_text(a, options, &b, source_b);
 }
 
 }  // namespace csgfit

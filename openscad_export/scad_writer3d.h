@@ -27,4 +27,10 @@ struct ScadOptions3D {
 /// (no primitives, non-finite or non-positive values, $fn out of range).
 std::string to_scad(const Node3D& tree, const ScadOptions3D& options = {});
 
+/// Writes the morph from `a` (morph = 0) to `b` (morph = 1), two trees of one structure, as
+/// to_scad_morph does in 2D: centres and sizes mix(at A, at B), each primitive turned by
+/// rotate(a = mix(0, angle), v = axis) on top of its rotation at A (the short arc to B's).
+std::string to_scad_morph(const Node3D& a, const Node3D& b, const std::string& source_b,
+                          const ScadOptions3D& options = {});
+
 }  // namespace csgfit

@@ -333,6 +333,11 @@ Lattice place_lattice(const TriangleMesh& mesh, const VoxelizeOptions& options) 
       first = false;
     }
   }
+  if (options.cover_box)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], options.box_lo[a]);
+      hi[a] = std::max(hi[a], options.box_hi[a]);
+    }
   const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   if (!(longest > 0)) throw InputError("cannot voxelise: the mesh has no extent (all vertices coincide)");
   if (options.margin < 0 || options.margin > 1000) {

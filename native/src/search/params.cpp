@@ -33,6 +33,20 @@ SearchParams SearchParams::for_3d() {
   return p;
 }
 
+SearchParams SearchParams::for_morph(const std::string& preset) {
+  if (preset == "paper") {
+    SearchParams p = paper();
+    p.initial_size_mean = 5;  // the paper's morphing runs: simpler shapes, smaller trees
+    return p;
+  }
+  if (preset == "default") {
+    SearchParams p;
+    p.initial_size_mean = 5;
+    return p;
+  }
+  throw std::invalid_argument("unknown preset '" + preset + "' (expected default or paper)");
+}
+
 SearchParams SearchParams::for_quality(const std::string& name) {
   if (name == "paper") return paper();
   SearchParams p;

@@ -49,6 +49,11 @@ void write_preview_png(const std::string& path, const Bitmap& target, const Bitm
 void write_rgb_png(const std::string& path, int width, int height,
                    const std::vector<std::uint8_t>& rgb);
 
+/// Writes frames of one size as a looping animated GIF, black shape on white, each pixel
+/// `scale` x `scale`, `delay_cs` hundredths of a second a frame, atomically.
+void write_bitmaps_gif(const std::string& path, const std::vector<Bitmap>& frames, int scale,
+                       int delay_cs);
+
 /// Writes a bitmap as a black-on-white 8-bit grey PNG (shape black), atomically.
 void write_bitmap_png(const std::string& path, const Bitmap& bitmap);
 

@@ -7,6 +7,7 @@
 #include "csgfit/model/frame.h"
 #include "csgfit/model/tree2d.h"
 #include "csgfit/pipeline/fit_bitmap.h"
+#include "csgfit/pipeline/fit_morph.h"
 #include "csgfit/pipeline/fit_range.h"
 #include "csgfit/pipeline/fit_voxels.h"
 
@@ -57,6 +58,16 @@ std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const st
 /// indices, "arcs" with from, to and kind "subtracting" or "appending") and "patches" (kind,
 /// points, convex, rms of each detected surface). docs/JSON_SCHEMA.md describes it.
 std::string to_json_range(const RangeFitResult& result, const std::vector<std::string>& sources);
+
+/// A 2D morph as JSON: shape A's document (canvas, "tree", "stats") with "morph": {"source_b",
+/// "tree_b", "stats_b", "rotate", "leaves": [{"in_a", "in_b"}, ...]} (docs/JSON_SCHEMA.md).
+/// tree_b has tree's structure; every number of the frame at t is a + (b - a) t.
+std::string to_json_morph(const MorphResult& result, const ModelFrame& frame,
+                          const std::string& source_b, TurnDirection rotate);
+/// A 3D morph as JSON: shape A's 3D document with the same "morph" object (no "rotate": 3D
+/// turns take the short arc).
+std::string to_json_morph3d(const MorphResult3D& result, const VoxelGrid& grid,
+                            const std::string& source_a, const std::string& source_b);
 
 /// Whether `text` is a JSON document with "dimension": 3 (false for 2D or unparsable text).
 bool is_json3d(const std::string& text);

@@ -21,6 +21,10 @@ struct VoxelizeOptions {
   /// Moves the lattice by this fraction of a voxel along x, y and z (0 <= shift < 1): a second,
   /// staggered sampling of the same part that TreeEvaluator3D can count beside the first.
   double lattice_shift = 0;
+  /// When set, the lattice covers this box as well as the mesh's (two meshes voxelised with the
+  /// same box and voxel size share one lattice, as a morph needs).
+  bool cover_box = false;
+  std::array<double, 3> box_lo{}, box_hi{};
   /// Grids with more voxels are refused (InputError).
   std::size_t max_voxels = std::size_t{1} << 27;
   /// Work budget for the exact generalised winding number (voxels x triangles) where the

@@ -54,6 +54,10 @@ struct SearchParams {
   /// Named settings shared by the CLI (--quality, --preset) and the Python module: "fast",
   /// "default", "best", or "paper" (Table 2 as it is). Throws std::invalid_argument otherwise.
   static SearchParams for_quality(const std::string& name);
+  /// The 2D morph's pair search: "default" (our first trees, copied into both trees of a
+  /// pair, beside random pairs of a = 5 primitives) or "paper" (Table 2 with a = 5, as the
+  /// seed's morphing runs). Throws std::invalid_argument otherwise.
+  static SearchParams for_morph(const std::string& preset);
 };
 
 }  // namespace csgfit
