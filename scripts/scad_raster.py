@@ -33,7 +33,7 @@ import zlib
 import numpy as np
 
 __all__ = [
-    "OpenScadError", "find_openscad", "render_svg", "parse_svg_path", "parse_svg_paths",
+    "OpenScadError", "find_openscad", "define_args", "render_svg", "parse_svg_path", "parse_svg_paths",
     "rasterize_polygons", "rasterize_scad", "read_mask", "write_pbm", "agreement", "png_chunks",
     "png_unfilter",
 ]
@@ -60,21 +60,31 @@ def _run_openscad(args, timeout):
     return proc.stderr
 
 
+def define_args(defines):
+    """OpenSCAD's -D arguments for {name: value} (numbers as %r, so 0.25 stays 0.25)."""
+    out = []
+    for name, value in (defines or {}).items():
+        out += ["-D", "%s=%r" % (name, value)]
+    return out
+
+
 _THICKNESS_RE = re.compile(r"^\s*thickness\s*=\s*([-+0-9.eE]+)\s*;", re.M)
 
 
-def render_svg(scad_path, thickness=None, timeout=300):
+def render_svg(scad_path, thickness=None, timeout=300, defines=None):
     """Renders scad_path with OpenSCAD and returns the SVG text of its 2D outline.
 
     A 3D (extruded) file is exported as STL and cut in the middle of its height; the height is
-    `thickness`, or read from the file's `thickness = ...;` line when not given.
+    `thickness`, or read from the file's `thickness = ...;` line when not given. `defines`
+    ({name: value}) are passed as OpenSCAD -D name=value (e.g. a morph's frame).
     """
     scad_path = os.path.abspath(scad_path)
+    dargs = define_args(defines)
     with tempfile.TemporaryDirectory(prefix="scad_raster_") as tmp:
         svg = os.path.join(tmp, "out.svg")
         if not thickness:
             try:
-                _run_openscad(["-o", svg, scad_path], timeout)
+                _run_openscad(dargs + ["-o", svg, scad_path], timeout)
                 with open(svg, encoding="utf-8") as f:
                     return f.read()
             except OpenScadError as e:
@@ -91,7 +101,7 @@ def render_svg(scad_path, thickness=None, timeout=300):
         # The cut goes through the middle of the extrusion, where a linear_extrude of the 2D
         # shape has exactly that shape, far from the top and bottom faces.
         stl = os.path.join(tmp, "solid.stl")
-        _run_openscad(["-o", stl, scad_path], timeout)
+        _run_openscad(dargs + ["-o", stl, scad_path], timeout)
         wrapper = os.path.join(tmp, "cut.scad")
         with open(wrapper, "w", encoding="utf-8") as f:
             f.write('projection(cut = true) translate([0, 0, %r]) import("%s");\n'
@@ -240,9 +250,12 @@ def rasterize_polygons(polygons, width, height, pixel_size):
     return mask
 
 
-def rasterize_scad(scad_path, width, height, pixel_size, thickness=None, timeout=300):
-    """OpenSCAD's rendering of scad_path sampled at the canvas's pixel centres (row 0 on top)."""
-    return rasterize_polygons(parse_svg_paths(render_svg(scad_path, thickness, timeout)),
+def rasterize_scad(scad_path, width, height, pixel_size, thickness=None, timeout=300,
+                   defines=None):
+    """OpenSCAD's rendering of scad_path sampled at the canvas's pixel centres (row 0 on top);
+    `defines` as for render_svg."""
+    return rasterize_polygons(parse_svg_paths(render_svg(scad_path, thickness, timeout,
+                                                         defines)),
                               width, height, pixel_size)
 
 

@@ -43,5 +43,7 @@ Command add_range_command(CLI::App& app);
 Command add_optimize_command(CLI::App& app);
 /// csgfit inflate: seed 001's redundancy generator.
 Command add_inflate_command(CLI::App& app);
+/// csgfit morph: two shapes to two trees of one structure (seed 000's morphing).
+Command add_morph_command(CLI::App& app);
 
 }  // namespace csgfit::cli

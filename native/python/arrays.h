@@ -12,6 +12,7 @@
 #include "csgfit/model/bitmap.h"
 #include "csgfit/model/mesh.h"
 #include "csgfit/model/quaternion.h"
+#include "csgfit/model/tree2d.h"
 #include "csgfit/model/voxel_grid.h"
 
 namespace csgfit_python {
@@ -26,6 +27,9 @@ using I64Array = py::array_t<std::int64_t, py::array::c_style | py::array::force
 csgfit::Bitmap bitmap_from_mask(const U8Array& mask);
 csgfit::GreyImage grey_from_array(const U8Array& grey);
 py::array_t<bool> mask_from_bitmap(const csgfit::Bitmap& bitmap);
+/// A 2D tree as nested dicts in pixel units ({"op", "children"} or {"type", "cx", "cy", "w",
+/// "h", "angle", "apex"}), what csgfit.tree.tree_from_pixels reads.
+py::dict node_to_dict(const csgfit::Node& node);
 
 /// Array index [i][j][k] is voxel (x, y, z) = (i, j, k), as in .npy files.
 csgfit::VoxelGrid grid_from_array(const U8Array& voxels, const std::vector<double>& origin,

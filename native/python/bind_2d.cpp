@@ -20,17 +20,7 @@
 
 namespace csgfit_python {
 
-namespace {
-
 using namespace pybind11::literals;
-
-/// A fit (or a loaded JSON file) with the frame that maps it to model units and, when known,
-/// the target bitmap it was fitted to.
-struct NativeResult {
-  csgfit::FitResult result;
-  csgfit::ModelFrame frame;
-  csgfit::Bitmap target;  // empty for results read from JSON
-};
 
 py::dict node_to_dict(const csgfit::Node& node) {
   if (node.is_leaf()) {
@@ -43,6 +33,18 @@ py::dict node_to_dict(const csgfit::Node& node) {
   for (const csgfit::Node& child : node.children) children.append(node_to_dict(child));
   return py::dict("op"_a = std::string(csgfit::to_string(node.kind)), "children"_a = children);
 }
+
+namespace {
+
+using namespace pybind11::literals;
+
+/// A fit (or a loaded JSON file) with the frame that maps it to model units and, when known,
+/// the target bitmap it was fitted to.
+struct NativeResult {
+  csgfit::FitResult result;
+  csgfit::ModelFrame frame;
+  csgfit::Bitmap target;  // empty for results read from JSON
+};
 
 py::dict stats_to_dict(const csgfit::FitStats& s) {
   return py::dict("k"_a = s.k, "score"_a = s.score, "excess"_a = s.excess,

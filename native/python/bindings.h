@@ -18,6 +18,8 @@ void bind_3d(pybind11::module_& m);
 void bind_range(pybind11::module_& m);
 /// Seed 001's optimiser on OpenSCAD programs.
 void bind_optimize(pybind11::module_& m);
+/// Seed 000's morphing of two bitmaps (or two meshes / voxel files).
+void bind_morph(pybind11::module_& m);
 /// Readers of images, meshes and voxel grids, thresholding and voxelising.
 void bind_io(pybind11::module_& m);
 

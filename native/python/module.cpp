@@ -14,6 +14,7 @@ PYBIND11_MODULE(_csgfit, m) {
   csgfit_python::bind_progress(m);
   csgfit_python::bind_io(m);
   csgfit_python::bind_optimize(m);
+  csgfit_python::bind_morph(m);
   csgfit_python::bind_2d(m);
   csgfit_python::bind_3d(m);
   csgfit_python::bind_range(m);

@@ -10,6 +10,10 @@
 FitResult3D, the same kind of object: its ``tree`` is Node / Primitive3D objects in the mesh's
 units, and its ``document`` is the dimension-3 JSON document of ``csgfit mesh -o x.json``.
 
+Two shapes (seed 000's morphing): ``csgfit.morph("b.png", "i.png", time=20)`` returns a
+MorphResult: two trees of one structure (``tree_a``, ``tree_b``), ``frame(t)``, and ``to_scad()``
+with a ``morph`` parameter that OpenSCAD animates.
+
 An OpenSCAD program (seed 001): ``csgfit.optimize("part.scad")`` returns an OptimizeResult, the
 same solid from a smaller tree, as ``scad`` and ``csg`` text with its sizes and proximity.
 
@@ -31,6 +35,7 @@ from __future__ import annotations
 from . import _csgfit
 from .bitmaps import fit_image, load_bitmap, load_json
 from .meshes import fit_mesh, fit_voxels, load_mesh, load_voxels, voxelize
+from .morphs import MorphResult, morph
 from .optimize import OptimizeResult, optimize
 from .options import (DEFAULT_PRIMITIVES_3D, PRIMITIVE_TYPES, PRIMITIVE_TYPES_3D, QUALITIES,
                       CancelToken, FitProgress, InputError, set_max_memory)
@@ -56,6 +61,7 @@ __all__ = [
     "GraphNode",
     "GridResult",
     "InputError",
+    "MorphResult",
     "Node",
     "OptimizeResult",
     "Primitive",
@@ -74,6 +80,7 @@ __all__ = [
     "load_bitmap",
     "load_json",
     "load_mesh",
+    "morph",
     "load_voxels",
     "optimize",
     "set_max_memory",
