@@ -118,10 +118,10 @@ def _chosen_tree(result: Dict[str, Any], alternative: int):
 
 
 def _parameter_sheet(doc, name: str, label: str, result: Dict[str, Any],
-                     thickness: Optional[float]):
+                     thickness: Optional[float], extra_rows=()):
     """The group's spreadsheet: 2D, the thickness cell every height refers to and the pixel
     size; 3D (thickness None), a record of the grid the fit was scored on (3D primitives carry
-    their own sizes)."""
+    their own sizes). extra_rows: more (title, value, alias or None) rows after those."""
     sheet = doc.addObject("Spreadsheet::Sheet", name + "_parameters")
     sheet.Label = f"{label} parameters"
     if thickness is not None:
@@ -137,7 +137,7 @@ def _parameter_sheet(doc, name: str, label: str, result: Dict[str, Any],
                  "voxel_size"),
                 ("Grid (voxels)", "'{} x {} x {}".format(grid.get("nx", 0), grid.get("ny", 0),
                                                         grid.get("nz", 0)), None)]
-    for row, (title, value, alias) in enumerate(rows, start=1):
+    for row, (title, value, alias) in enumerate(rows + list(extra_rows), start=1):
         sheet.set(f"A{row}", title)
         sheet.set(f"B{row}", value)
         if alias:
@@ -200,12 +200,31 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
     """
     result = load_result(source)
     tree, stats = _chosen_tree(result, alternative)
+    scad = source.to_scad() if dimension(result) == 3 and hasattr(source, "to_scad") else None
+    return assemble(doc, result, tree, stats, thickness=thickness, label=label,
+                    alternative=alternative, scad=scad, recompute=recompute)
+
+
+def extrusion_thickness(result: Dict[str, Any], thickness: Optional[float]) -> Optional[float]:
+    """The 2D extrusion height (the argument, else the result's default); None in 3D."""
+    if dimension(result) != 2:
+        return None
+    t = default_thickness(result) if thickness is None else float(thickness)
+    if not (math.isfinite(t) and t > 0):
+        raise BuildError("thickness must be > 0")
+    return t
+
+
+def assemble(doc, result: Dict[str, Any], tree: Dict[str, Any], stats: Dict[str, Any], *,
+             thickness: Optional[float] = None, label: Optional[str] = None,
+             alternative: int = -1, scad: Optional[str] = None, recompute: bool = True,
+             make_tree=PartTree, extra_rows=()) -> BuildResult:
+    """build() once the tree is chosen: the group, its parameter sheet (plus extra_rows), the
+    Part objects of `tree` made by make_tree(doc, group, sheet, thickness expression or None)
+    (a PartTree; morph_builder passes its own), the record on the group.
+    Raises BuildError on malformed input (nothing is left in the document then)."""
     dim = dimension(result)
-    t = None
-    if dim == 2:
-        t = default_thickness(result) if thickness is None else float(thickness)
-        if not (math.isfinite(t) and t > 0):
-            raise BuildError("thickness must be > 0")
+    t = extrusion_thickness(result, thickness)
     if label is None:
         src = result.get("source") or ""
         label = os.path.splitext(os.path.basename(src))[0] or "csgfit"
@@ -213,8 +232,8 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
     name = "CSGFit_" + object_name(label)
     group = doc.addObject("App::DocumentObjectGroup", name)
     group.Label = label
-    sheet = _parameter_sheet(doc, name, label, result, t)
-    builder = PartTree(doc, group, sheet, f"{sheet.Name}.thickness" if dim == 2 else None)
+    sheet = _parameter_sheet(doc, name, label, result, t, extra_rows)
+    builder = make_tree(doc, group, sheet, f"{sheet.Name}.thickness" if dim == 2 else None)
     try:
         root = builder.node(tree, "tree")
     except Exception:
@@ -227,7 +246,6 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
     # view nests the whole CSG tree under it (listing every object in the group as well would
     # show each one twice).
     group.addObjects([sheet, root])
-    scad = source.to_scad() if dim == 3 and hasattr(source, "to_scad") else None
     _record(group, result, stats, alternative, builder, root, scad)
     # Only the root is shown; the inputs of booleans stay hidden as the Part commands do.
     for obj in builder.created:

@@ -1,5 +1,5 @@
 """GUI commands of the CSG Fit workbench: "Image to CSG", "Mesh to CSG", "Range image to CSG",
-"Optimize CSG tree" and "Export OpenSCAD"."""
+"Morph two images", "Optimize CSG tree" and "Export OpenSCAD"."""
 
 import os
 
@@ -12,9 +12,10 @@ from . import builder, icon, import_csgfit
 IMAGE_TO_CSG = "CSGFit_ImageToCSG"
 MESH_TO_CSG = "CSGFit_MeshToCSG"
 RANGE_TO_CSG = "CSGFit_RangeToCSG"
+MORPH_IMAGES = "CSGFit_MorphImages"
 EXPORT_SCAD = "CSGFit_ExportOpenSCAD"
 OPTIMIZE_TREE = "CSGFit_OptimizeTree"
-COMMANDS = [IMAGE_TO_CSG, MESH_TO_CSG, RANGE_TO_CSG, OPTIMIZE_TREE, EXPORT_SCAD]
+COMMANDS = [IMAGE_TO_CSG, MESH_TO_CSG, RANGE_TO_CSG, MORPH_IMAGES, OPTIMIZE_TREE, EXPORT_SCAD]
 #: The last fit panel opened (scripts and the GUI test drive it).
 active_panel = None
 
@@ -93,6 +94,27 @@ class RangeToCsgCommand:
         from .range_panel import RangeToCsgPanel
 
         active_panel = RangeToCsgPanel()
+        Gui.Control.showDialog(active_panel)
+
+
+class MorphImagesCommand:
+    """Opens the Morph two images task panel (both bitmaps are chosen in it)."""
+
+    def GetResources(self):
+        return {"Pixmap": icon("csgfit_morph_images"),
+                "MenuText": "Morph two images",
+                "ToolTip": "Fit two bitmaps with CSG trees of one structure and build one "
+                           "parametric tree whose 'morph' cell (0 to 1) moves from one to the "
+                           "other"}
+
+    def IsActive(self):
+        return not Gui.Control.activeDialog()
+
+    def Activated(self):
+        global active_panel
+        from .morph_panel import MorphPanel
+
+        active_panel = MorphPanel()
         Gui.Control.showDialog(active_panel)
 
 
@@ -212,6 +234,7 @@ def register():
         Gui.addCommand(IMAGE_TO_CSG, ImageToCsgCommand())
         Gui.addCommand(MESH_TO_CSG, MeshToCsgCommand())
         Gui.addCommand(RANGE_TO_CSG, RangeToCsgCommand())
+        Gui.addCommand(MORPH_IMAGES, MorphImagesCommand())
         Gui.addCommand(EXPORT_SCAD, ExportScadCommand())
         Gui.addCommand(OPTIMIZE_TREE, OptimizeTreeCommand())
         _registered = True

@@ -1,4 +1,5 @@
-"""Writes a csgfit result (JSON) as a FreeCAD document (.FCStd), headless.
+"""Writes a csgfit result (JSON) as a FreeCAD document (.FCStd), headless. A morph document
+(one with a "morph" key) is built by morph_builder.build_morph.
 
 Run with FreeCAD's own interpreter; arguments come from the environment because freecadcmd
 treats its command-line arguments as files to open:
@@ -33,14 +34,16 @@ def write_fcstd(json_path, fcstd_path, thickness=None, label=None, doc_name=None
     input, RuntimeError when the tree does not recompute to a valid solid."""
     import FreeCAD as App
 
-    from csgfit_freecad import builder
+    from csgfit_freecad import builder, morph_builder
 
     result = builder.load_result(json_path)
+    # A morph document (csgfit morph) becomes one tree driven by its sheet's `morph` cell.
+    build = morph_builder.build_morph if morph_builder.is_morph(result) else builder.build
     name = doc_name or os.path.splitext(os.path.basename(fcstd_path))[0] or "csgfit"
     doc_name = "".join(c if c.isalnum() else "_" for c in name)
     doc = App.newDocument(doc_name)
     try:
-        built = builder.build(doc, result, thickness=thickness, label=label)
+        built = build(doc, result, thickness=thickness, label=label)
         problems = builder.check_tree(doc, built.group)
         if problems:
             raise RuntimeError("the FreeCAD tree is not valid: " + "; ".join(problems))

@@ -291,9 +291,7 @@ class FitPanel:
             return
         self.result = job.result
         self.progress_bar.setValue(1000)
-        s = self.result.stats
-        self.show_status(f"IoU {s.iou:.4f}, {s.primitives} primitives, {s.seconds:.1f} s "
-                         f"({s.stop_reason}).")
+        self.show_status(self.summary(self.result))
         self._fit_finished(self.result)
         if self.accept_when_done:
             self.accept_when_done = False
@@ -301,6 +299,12 @@ class FitPanel:
 
     def _fit_finished(self, result):
         raise NotImplementedError
+
+    def summary(self, result):
+        """The status line once the fit has ended."""
+        s = result.stats
+        return (f"IoU {s.iou:.4f}, {s.primitives} primitives, {s.seconds:.1f} s "
+                f"({s.stop_reason}).")
 
     def show_status(self, text):
         """A normal message in the status line."""
