@@ -30,6 +30,7 @@ SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
 if SCRIPT_DIR not in sys.path:
     sys.path.insert(0, SCRIPT_DIR)
 import benchlib  # noqa: E402  (what bench_2d.py does the same way)
+import scad_raster  # noqa: E402  (define_args: OpenSCAD -D settings)
 import stl_voxelize  # noqa: E402  (scripts/stl_voxelize.py: imported, never copied)
 from benchlib import cell, fmt, iou, numeric  # noqa: E402
 
@@ -107,13 +108,14 @@ def summary_cells(stderr):
     return benchlib.solver_cells(benchlib.parse_summary(stderr), SOLVER_COLUMNS)
 
 
-def openscad_stl(scad, stl, timeout):
-    """Renders scad to stl (written atomically so that a killed render is never cached)."""
+def openscad_stl(scad, stl, timeout, defines=None):
+    """Renders scad to stl (written atomically so that a killed render is never cached);
+    `defines` ({name: value}) are OpenSCAD -D settings (bench_morph.py's frames)."""
     tmp = stl + ".part.stl"
     benchlib.remove_files(tmp)
+    cmd = ["openscad"] + scad_raster.define_args(defines) + ["-o", tmp, scad]
     try:
-        proc = subprocess.run(["openscad", "-o", tmp, scad], capture_output=True, text=True,
-                              timeout=timeout)
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
         benchlib.remove_files(tmp)
         raise RuntimeError("OpenSCAD did not finish within %g s" % timeout)

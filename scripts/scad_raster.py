@@ -33,9 +33,9 @@ import zlib
 import numpy as np
 
 __all__ = [
-    "OpenScadError", "find_openscad", "define_args", "render_svg", "parse_svg_path", "parse_svg_paths",
-    "rasterize_polygons", "rasterize_scad", "read_mask", "write_pbm", "agreement", "png_chunks",
-    "png_unfilter",
+    "OpenScadError", "find_openscad", "define_args", "render_svg", "parse_svg_path",
+    "parse_svg_paths", "rasterize_polygons", "rasterize_scad", "read_mask", "write_pbm",
+    "agreement", "png_chunks", "png_unfilter",
 ]
 
 
