@@ -42,9 +42,9 @@ void add_morph_options(CLI::App& cmd, MorphArgs& a) {
   cmd.add_option("--time", a.time_limit, "time budget in seconds")->check(obeys(option_rules::time));
   cmd.add_option("--seed", a.seed, "random seed: same seed and threads, same pair")->check(seed_check());
   cmd.add_option("--threads", a.threads, "worker threads (0 = all cores)")->check(obeys(option_rules::threads));
-  cmd.add_option("--k", a.k, "size weight per primitive (default as csgfit image / mesh)")
+  cmd.add_option("--k", a.k, "price of one primitive of the pair, half of it in each tree (default as csgfit image / mesh)")
       ->check(obeys(option_rules::k));
-  cmd.add_option("--primitives", a.primitives, "comma-separated primitive kinds (default: all 2D / the mesh's)");
+  cmd.add_option("--primitives", a.primitives, "comma-separated primitive kinds (default: every 2D kind; 3D: csgfit mesh's)");
   cmd.add_option("--fn", a.fn, "OpenSCAD $fn for round primitives")->check(obeys(option_rules::fn));
   cmd.add_flag("-q,--quiet", a.quiet, "no progress bar and no summary");
   cmd.add_option("--preset", a.preset, "search: default, or paper (seed 000's Table 2, a = 5)")
