@@ -190,9 +190,8 @@ void bind_2d(py::module_& m) {
       "while solving; progress(FitProgress) may return False to cancel.");
   m.def("from_json", &from_json_text, py::arg("text"),
         "Parses JSON written by to_json into a NativeResult.");
-  m.def(
-      "load_json_file", [](const std::string& path) { return from_json_text(csgfit::read_json_file(path)); },
-      py::arg("path"), "Reads a .json file written by to_json into a NativeResult.");
+  m.def("read_json_file", &csgfit::read_json_file, py::arg("path"),
+        "The text of a .json file, read under the documents' size limit.");
   m.def("default_k", &csgfit::default_k, py::arg("width"), py::arg("height"),
         "Size weight k used when none is given: 25 at 128 x 128, scaled to the pixel count.");
 }

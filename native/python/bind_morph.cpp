@@ -73,6 +73,13 @@ void bind_morph2d(py::module_& m) {
       .def_property_readonly("source", [](const NativeMorph& n) { return n.frame.source; })
       .def_property_readonly("source_b", [](const NativeMorph& n) { return n.source_b; })
       .def_property_readonly("pixel_size", [](const NativeMorph& n) { return n.frame.pixel_size; })
+      .def_property(
+          "thickness", [](const NativeMorph& n) { return n.frame.thickness; },
+          [](NativeMorph& n, double v) {
+            check_length("thickness", v, true);
+            n.frame.thickness = v;
+          },
+          "Extrusion height of the .scad in mm (0 = flat 2D).")
       .def("tree_a", [](const NativeMorph& n) { return node_to_dict(n.result.a); }, "A's tree in pixel units.")
       .def("tree_b", [](const NativeMorph& n) { return node_to_dict(n.result.b); }, "B's tree in pixel units.")
       .def("to_json",
@@ -130,6 +137,16 @@ void bind_morph2d(py::module_& m) {
       py::arg("progress") = py::none(), py::arg("cancel") = nullptr, py::arg("pixel_size") = 1.0,
       py::arg("thickness") = 0.0, py::arg("source_a") = "", py::arg("source_b") = "",
       "Searches two trees of one structure for masks a and b (same shape). Releases the GIL.");
+  m.def("is_json_morph", &csgfit::is_json_morph, py::arg("text"),
+        "Whether JSON text is a morph document (it has a 'morph' object).");
+  m.def(
+      "morph_from_json",
+      [](const std::string& text) {
+        NativeMorph out;
+        out.result = csgfit::morph_from_json(text, &out.frame, &out.source_b, &out.rotate);
+        return out;
+      },
+      py::arg("text"), "Reads a 2D morph document written by to_json into a NativeMorph.");
 }
 
 void bind_morph3d(py::module_& m) {

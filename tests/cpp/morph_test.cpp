@@ -209,3 +209,35 @@ TEST(Morph3D, PairOfVoxelShapesHasOneStructure) {
   EXPECT_EQ(render(interpolate(r.a, r.b, 1), b), render(r.b, b));
   EXPECT_THROW(morph_voxels(a, VoxelGrid(20, 20, 20), opt), std::invalid_argument);
 }
+
+TEST(MorphJson, ReadsBackWhatItWrote) {
+  MorphResult r;
+  r.a = Node::op(NodeKind::Difference, {Node::leaf(Primitive::rectangle(40, 30, 50, 30, 10)),
+                                        Node::leaf(Primitive::triangle(40, 30, 8, 6, 0, 0.5))});
+  r.b = r.a;
+  r.b.children[0].primitive.angle = -170;  // the end of a turn, not wrapped
+  r.b.children[1].primitive.w = r.b.children[1].primitive.h = 0;
+  r.leaves = {MorphLeaf{true, true}, MorphLeaf{true, false}};
+  r.width = 96;
+  r.height = 64;
+  ModelFrame frame;
+  frame.pixel_size = 0.5;
+  frame.source = "a.png";
+  const std::string text = to_json_morph(r, frame, "b.png", TurnDirection::Clockwise);
+  ASSERT_TRUE(is_json_morph(text));
+  ModelFrame f;
+  std::string source_b;
+  TurnDirection rotate = TurnDirection::Shortest;
+  const MorphResult back = morph_from_json(text, &f, &source_b, &rotate);
+  EXPECT_EQ(back.a, r.a);
+  EXPECT_EQ(back.b, r.b);
+  EXPECT_EQ(back.leaves[1].in_b, false);
+  EXPECT_EQ(source_b, "b.png");
+  EXPECT_EQ(rotate, TurnDirection::Clockwise);
+  EXPECT_EQ(to_json_morph(back, f, source_b, rotate), text);
+  // A tree_b of another structure is refused, naming it.
+  std::string broken = text;
+  broken.replace(broken.rfind("\"triangle\""), 10, "\"circle\"");
+  EXPECT_THROW(morph_from_json(broken), InputError);
+  EXPECT_FALSE(is_json_morph("{\"schema\": \"csgfit/1\"}"));
+}

@@ -327,7 +327,15 @@ error_a = panel.status.text()
 panel.file_edit.setText("a.png")
 missing_b = panel.fit_request()
 summary = panel.summary({morph!r})
-print(json.dumps({{"summary": summary, "commands": commands.COMMANDS, "added": sorted(added),
+# Export OpenSCAD on a morph group writes the animated model, extruded by the group's cell.
+from csgfit_freecad import morph_builder
+doc = App.newDocument("export")
+built = morph_builder.build_morph(doc, {morph!r})
+scad_path = {scad!r}
+commands.export_scad(built.group, scad_path)
+scad = open(scad_path).read()
+print(json.dumps({{"summary": summary, "scad_morph": "morph = -1;" in scad and "mix(" in scad,
+                  "scad_extruded": "linear_extrude(height = thickness)" in scad, "commands": commands.COMMANDS, "added": sorted(added),
                   "resources": cmd.GetResources(), "active": cmd.IsActive(),
                   "error_a": error_a, "error_b": panel.status.text(),
                   "requests": [missing_a, missing_b],
@@ -336,9 +344,9 @@ print(json.dumps({{"summary": summary, "commands": commands.COMMANDS, "added": s
 """
 
 
-def test_morph_command_is_registered_and_its_panel_builds_without_a_gui():
+def test_morph_command_is_registered_and_its_panel_builds_without_a_gui(tmp_path):
     code = PANEL_CHECK.format(lib=H.FREECAD_LIB, workbench=H.WORKBENCH,
-                              morph=json.dumps(MORPH_2D))
+                              morph=json.dumps(MORPH_2D), scad=str(tmp_path / "m.scad"))
     env = dict(os.environ, QT_QPA_PLATFORM="offscreen", CSGFIT_BUILD_DIR=H.BUILD)
     proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
                           timeout=120)
@@ -351,3 +359,4 @@ def test_morph_command_is_registered_and_its_panel_builds_without_a_gui():
     assert "image A" in r["error_a"] and "image B" in r["error_b"]
     assert r["summary"].startswith("IoU A 0.9900, B 0.9800, 6 primitives")
     assert r["rows"] == ["shortest", "cw", "ccw"] and r["presets"] == ["default", "paper"]
+    assert r["scad_morph"] and r["scad_extruded"]

@@ -73,6 +73,21 @@ def test_json_holds_both_trees(pair, tmp_path):
     assert pair.save(tmp_path / "m.json").endswith("m.json")
 
 
+def test_a_saved_morph_loads_back_and_exports_the_same_scad(pair, tmp_path):
+    path = pair.save(tmp_path / "m.json")
+    back = csgfit.load_json(path)
+    assert isinstance(back, csgfit.MorphResult)
+    assert back.to_scad() == pair.to_scad()
+    assert (back.frame(0.5) == pair.frame(0.5)).all()
+    out = run("export", path, "-o", tmp_path / "m.scad")
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "m.scad").read_text() == pair.to_scad()
+    back.thickness = 3.0  # as FreeCAD's Export OpenSCAD sets it from the group's cell
+    assert "linear_extrude(height = thickness)" in back.to_scad()
+    out = run("export", path, "-o", tmp_path / "m.step")
+    assert out.returncode == 2 and "two solids" in out.stderr
+
+
 def test_bad_input_is_refused():
     with pytest.raises(csgfit.InputError, match="differ in size"):
         csgfit.morph(disc_with_bar(), np.ones((10, 10), bool), time=1)

@@ -112,8 +112,9 @@ def fit_image(image, *, threshold: Optional[int] = None, invert: bool = False,
                                  source=source, **search))
 
 
-def load_json(text_or_path: Union[str, os.PathLike]) -> FitResult:
-    """Reads a result written by FitResult.to_json() or `csgfit image ... -o X.json`.
+def load_json(text_or_path: Union[str, os.PathLike]):
+    """Reads a result written by FitResult.to_json() or `csgfit image ... -o X.json`; a 2D morph
+    document (`csgfit morph ... -o X.json`) comes back as a csgfit.MorphResult.
 
     Accepts the JSON text itself or a path to a .json file. Raises InputError when malformed.
     """
@@ -125,6 +126,9 @@ def load_json(text_or_path: Union[str, os.PathLike]) -> FitResult:
         text = os.fsdecode(text)
     # Text, not a path: JSON starts with "{" (or "[" for a malformed one), and no path has a
     # line break or is longer than the system's path limit.
-    if text.lstrip()[:1] in ("{", "[") or "\n" in text or len(text) > 4096:
-        return FitResult(_csgfit.from_json(text))
-    return FitResult(_csgfit.load_json_file(text))
+    if not (text.lstrip()[:1] in ("{", "[") or "\n" in text or len(text) > 4096):
+        text = _csgfit.read_json_file(text)
+    if _csgfit.is_json_morph(text):
+        from .morphs import MorphResult
+        return MorphResult(_csgfit.morph_from_json(text), 2)
+    return FitResult(_csgfit.from_json(text))

@@ -45,6 +45,18 @@ class MorphResult:
             self.tree_b = tree_from_json3d(doc["morph"]["tree_b"])
 
     source = property(lambda self: self._native.source, doc="A's file name ('' for arrays).")
+
+    @property
+    def thickness(self) -> float:
+        """2D: the extrusion height of to_scad() in mm (0 = flat); settable, as FreeCAD's Export
+        OpenSCAD does with the group's thickness cell."""
+        return self._native.thickness if self.dimension == 2 else 0.0
+
+    @thickness.setter
+    def thickness(self, value: float) -> None:
+        if self.dimension != 2:
+            raise InputError("a 3D morph has no thickness")
+        self._native.thickness = number("thickness", value, "thickness")
     source_b = property(lambda self: self._native.source_b, doc="B's file name ('' for arrays).")
 
     def frame(self, t: float):

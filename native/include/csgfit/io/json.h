@@ -64,6 +64,13 @@ std::string to_json_range(const RangeFitResult& result, const std::vector<std::s
 /// tree_b has tree's structure; every number of the frame at t is a + (b - a) t.
 std::string to_json_morph(const MorphResult& result, const ModelFrame& frame,
                           const std::string& source_b, TurnDirection rotate);
+/// Whether `text` is a JSON document with a "morph" object (false for unparsable text).
+bool is_json_morph(const std::string& text);
+/// Reads a 2D morph written by to_json_morph: both trees as written (sizes of 0, unwrapped
+/// angles), the frame, B's source and the turn direction. Throws InputError naming the field
+/// when malformed, when tree_b differs from tree in structure, or for a 3D morph.
+MorphResult morph_from_json(const std::string& text, ModelFrame* frame = nullptr,
+                            std::string* source_b = nullptr, TurnDirection* rotate = nullptr);
 /// A 3D morph as JSON: shape A's 3D document with the same "morph" object (no "rotate": 3D
 /// turns take the short arc).
 std::string to_json_morph3d(const MorphResult3D& result, const VoxelGrid& grid,

@@ -121,7 +121,30 @@ Primitive triangle_from_points(const json& pts, double s, const std::string& whe
   return Primitive::triangle(mx - uy * h / 2, my + ux * h / 2, w, h, angle, apex);
 }
 
-Node node_from(const json& j, double s, const std::string& where, int depth) {
+// A morph's leaf as written: sizes may be 0 (a primitive seen in the other shape only) and the
+// angle is the end of its turn, so nothing is normalised.
+Primitive leaf_as_written(PrimitiveKind kind, const json& j, double s, const std::string& at) {
+  auto size = [&](const char* key) {
+    const double v = number(j, key, at, true);
+    if (v < 0) fail(at, std::string("'") + key + "' must be >= 0");
+    return v / s;
+  };
+  Primitive p;
+  p.kind = kind;
+  p.cx = number(j, "cx", at, true) / s;
+  p.cy = number(j, "cy", at, true) / s;
+  if (kind == PrimitiveKind::Circle) {
+    p.w = p.h = 2 * size("r");
+    return p;
+  }
+  p.w = kind == PrimitiveKind::Ellipse ? 2 * size("rx") : size("w");
+  p.h = kind == PrimitiveKind::Ellipse ? 2 * size("ry") : size("h");
+  p.angle = number(j, "angle", at, false);
+  if (kind == PrimitiveKind::Triangle) p.apex = number(j, "apex", at, false);
+  return p;
+}
+
+Node node_from(const json& j, double s, const std::string& where, int depth, bool as_written) {
   if (depth > kMaxDepth) fail(where, "tree nested deeper than " + std::to_string(kMaxDepth));
   if (!j.is_object()) fail(where, "a node must be an object");
   const json* op = member(j, "op");
@@ -141,7 +164,8 @@ Node node_from(const json& j, double s, const std::string& where, int depth) {
     children.reserve(kids->size());
     for (std::size_t i = 0; i < kids->size(); ++i)
       children.push_back(
-          node_from((*kids)[i], s, where + ".children[" + std::to_string(i) + "]", depth + 1));
+          node_from((*kids)[i], s, where + ".children[" + std::to_string(i) + "]", depth + 1,
+                    as_written));
     return Node::op(kind, std::move(children));
   }
   if (!type) fail(where, "a node needs 'op' (operator) or 'type' (primitive)");
@@ -153,6 +177,7 @@ Node node_from(const json& j, double s, const std::string& where, int depth) {
     fail(where, e.what());
   }
   const std::string at = where + " (" + type->get<std::string>() + ")";
+  if (as_written) return Node::leaf(leaf_as_written(kind, j, s, at));
   if (kind == PrimitiveKind::Triangle && member(j, "points"))
     return Node::leaf(triangle_from_points(*member(j, "points"), s, at));
   const double cx = number(j, "cx", at, true) / s;
@@ -225,6 +250,16 @@ json parse(const std::string& text) {
 
 }  // namespace
 
+namespace json_detail {
+
+Node read_node2d(const json& j, double pixel_size, const std::string& where, bool as_written) {
+  return node_from(j, pixel_size, where, 0, as_written);
+}
+
+FitStats read_stats2d(const json& j, const std::string& where) { return stats_from(j, where); }
+
+}  // namespace json_detail
+
 std::string to_json(const FitResult& result, const ModelFrame& frame) {
   const double s = frame.pixel_size;
   if (!std::isfinite(s) || !(s > 0)) throw InputError("JSON: pixel size must be a positive number");
@@ -253,7 +288,7 @@ std::string to_json(const FitResult& result, const ModelFrame& frame) {
   return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
 }
 
-static FitResult from_json_checked(const std::string& text, ModelFrame* frame) {
+static FitResult from_json_checked(const std::string& text, ModelFrame* frame, bool as_written) {
   const json doc = parse(text);
   if (!doc.is_object()) throw InputError("JSON: the document must be an object");
   FitResult result;
@@ -261,7 +296,7 @@ static FitResult from_json_checked(const std::string& text, ModelFrame* frame) {
   if (!member(doc, "schema")) {
     if (member(doc, "op") || member(doc, "type")) {
       // A bare tree such as a ground-truth file: pixel units, canvas unknown.
-      result.tree = node_from(doc, 1.0, "tree", 0);
+      result.tree = node_from(doc, 1.0, "tree", 0, false);
       result.stats.primitives = result.tree.primitive_count();
       if (frame) *frame = f;
       return result;
@@ -303,7 +338,7 @@ static FitResult from_json_checked(const std::string& text, ModelFrame* frame) {
 
   const json* tree = member(doc, "tree");
   if (!tree) throw InputError("JSON: missing 'tree'");
-  result.tree = node_from(*tree, f.pixel_size, "tree", 0);
+  result.tree = node_from(*tree, f.pixel_size, "tree", 0, as_written);
   if (const json* st = member(doc, "stats"); st && !st->is_null())
     result.stats = stats_from(*st, "stats");
   if (const json* alts = member(doc, "alternatives"); alts && !alts->is_null()) {
@@ -313,7 +348,7 @@ static FitResult from_json_checked(const std::string& text, ModelFrame* frame) {
       const json& a = (*alts)[i];
       if (!a.is_object() || !member(a, "tree")) fail(where, "needs a 'tree'");
       FitTree ft;
-      ft.tree = node_from(a["tree"], f.pixel_size, where + ".tree", 0);
+      ft.tree = node_from(a["tree"], f.pixel_size, where + ".tree", 0, false);
       if (const json* st = member(a, "stats"); st && !st->is_null())
         ft.stats = stats_from(*st, where + ".stats");
       result.alternatives.push_back(std::move(ft));
@@ -329,9 +364,21 @@ std::string read_json_file(const std::string& path) {
                                     io_detail::FileContent::Text);
 }
 
+namespace json_detail {
+
+FitResult read_document2d(const std::string& text, ModelFrame* frame, bool as_written) {
+  try {
+    return from_json_checked(text, frame, as_written);
+  } catch (const json::exception& e) {
+    throw InputError(std::string("JSON: ") + e.what());
+  }
+}
+
+}  // namespace json_detail
+
 FitResult from_json(const std::string& text, ModelFrame* frame) {
   try {
-    return from_json_checked(text, frame);
+    return from_json_checked(text, frame, false);
   } catch (const json::exception& e) {
     // Every field is type-checked above; this is a safety net that keeps the one-line contract.
     throw InputError(std::string("JSON: ") + e.what());
@@ -341,7 +388,7 @@ FitResult from_json(const std::string& text, ModelFrame* frame) {
 Node node_from_json(const std::string& text, double pixel_size) {
   if (!std::isfinite(pixel_size) || !(pixel_size > 0))
     throw InputError("JSON: pixel size must be a positive number");
-  return node_from(parse(text), pixel_size, "tree", 0);
+  return node_from(parse(text), pixel_size, "tree", 0, false);
 }
 
 Node flip_y(const Node& tree, double height) {

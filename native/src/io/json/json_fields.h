@@ -7,7 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "csgfit/model/frame.h"
 #include "csgfit/model/tree.h"
+#include "csgfit/model/tree2d.h"
+#include "csgfit/pipeline/fit_bitmap.h"
 #include "csgfit/search/stats.h"
 
 namespace csgfit::json_detail {
@@ -49,6 +52,12 @@ double finite_number(const Json& j, const char* key, const std::string& where,
 
 /// The operator named "union", "difference" or "intersection"; false for any other name.
 bool node_kind_from_name(const std::string& name, NodeKind* kind);
+
+/// The 2D reader (json2d.cpp) for a morph's document (json_morph.cpp): as_written keeps sizes
+/// of 0 and unwrapped angles, as a morph's trees have them.
+FitResult read_document2d(const std::string& text, ModelFrame* frame, bool as_written);
+Node read_node2d(const nlohmann::json& j, double pixel_size, const std::string& where, bool as_written);
+FitStats read_stats2d(const nlohmann::json& j, const std::string& where);
 
 /// The "stats" object of both dimensions; a NaN or infinite statistic is written as null
 /// (JSON has neither), and read back as 0.
