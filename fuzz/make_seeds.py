@@ -213,6 +213,13 @@ def voxels():
 
 # --- JSON -----------------------------------------------------------------------------------
 
+def leaves_of(node):
+    """The leaves of a JSON tree in pre-order."""
+    if "children" not in node:
+        return [node]
+    return [leaf for child in node["children"] for leaf in leaves_of(child)]
+
+
 def documents():
     canvas = {"width_px": 96, "height_px": 80, "pixel_size": 0.5, "thickness": 0.0}
     tree = {"op": "difference", "children": [
@@ -231,6 +238,12 @@ def documents():
     put("json2d", "bare_node.json", json.dumps({"op": "union", "children": [
         {"type": "rect", "cx": 10, "cy": 10, "w": 4, "h": 4},
         {"type": "triangle", "points": [[0, 0], [10, 0], [3, 8]]}]}))
+    tree_b = json.loads(json.dumps(tree))
+    put("json2d", "morph.json", json.dumps({
+        "schema": "csgfit/1", "dimension": 2, "units": "mm", "canvas": canvas, "source": "a.png",
+        "tree": tree, "stats": stats,
+        "morph": {"source_b": "b.png", "tree_b": tree_b, "stats_b": stats, "rotate": "cw",
+                  "leaves": [{"in_a": True, "in_b": True}] * len(leaves_of(tree))}}, indent=1))
     put("json2d", "tiny.json", '{"schema":"csgfit/1","canvas":{"width_px":8,"height_px":8,"pixel_size":1},'
         '"tree":{"type":"square","cx":4,"cy":4,"w":2,"h":2}}')
 
