@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "csgfit/eval/evaluator2d.h"
@@ -69,6 +70,7 @@ struct Dim2D {
   }
   static Single scored(const Problem& pb, Tree tree) {
     Single c;
+    c.score = std::numeric_limits<double>::infinity();  // a tree without leaves never wins
     if (tree.primitive_count() == 0) return c;
     TreeEvaluator ev(*pb.target, tree);
     c.mismatch = ev.mismatch();
