@@ -129,11 +129,7 @@ class FitPanel:
     def _add_search_rows(self, grid, time, min_time, qualities, k_max, k_tip, primitives):
         """Time budget, Quality (qualities: item texts, the default one, a tooltip), Size
         weight k, Primitives (primitives: (name, checked, enabled) triples), Seed."""
-        self.time = QtWidgets.QDoubleSpinBox()
-        self.time.setRange(min_time, 3600)
-        self.time.setValue(time)
-        self.time.setSuffix(" s")
-        grid.addRow("Time budget", self.time)
+        self._add_time_row(grid, time, min_time)
         items, default, tip = qualities
         self.quality = QtWidgets.QComboBox()
         self.quality.addItems(list(items))
@@ -147,6 +143,18 @@ class FitPanel:
         self.k.setToolTip(k_tip)
         grid.addRow("Size weight k", self.k)
         grid.addRow("Primitives", self._primitive_boxes(primitives))
+        self._add_seed_row(grid)
+
+    def _add_time_row(self, grid, time, min_time):
+        """Time budget in seconds (at most an hour)."""
+        self.time = QtWidgets.QDoubleSpinBox()
+        self.time.setRange(min_time, 3600)
+        self.time.setValue(time)
+        self.time.setSuffix(" s")
+        grid.addRow("Time budget", self.time)
+
+    def _add_seed_row(self, grid):
+        """Seed: the same seed and threads give the same tree."""
         self.seed = QtWidgets.QSpinBox()
         self.seed.setRange(0, 2 ** 31 - 1)
         self.seed.setValue(1)

@@ -13,6 +13,23 @@ QUALITIES = ("fast", "default", "best", "paper")
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.bmp *.pgm *.pbm *.ppm *.tga);;All files (*)"
 
 
+def add_model_frame_rows(panel, grid):
+    """Pixel size and Thickness (0 = auto, 10 pixels): how pixels become millimetres, for every
+    panel that fits bitmaps."""
+    panel.pixel_size = QtWidgets.QDoubleSpinBox()
+    panel.pixel_size.setRange(1e-4, 1e4)
+    panel.pixel_size.setDecimals(4)
+    panel.pixel_size.setValue(1.0)
+    panel.pixel_size.setSuffix(" mm")
+    grid.addRow("Pixel size", panel.pixel_size)
+    panel.thickness = QtWidgets.QDoubleSpinBox()
+    panel.thickness.setRange(0, 1e5)
+    panel.thickness.setDecimals(3)
+    panel.thickness.setSpecialValueText("auto (10 pixels)")
+    panel.thickness.setSuffix(" mm")
+    grid.addRow("Thickness", panel.thickness)
+
+
 class ImageToCsgPanel(FitPanel):
     """Task panel: settings, Fit / Cancel, progress, preview, tree choice; OK builds the tree."""
 
@@ -60,18 +77,7 @@ class ImageToCsgPanel(FitPanel):
         self.invert = QtWidgets.QCheckBox("Light pixels are the shape")
         self.invert.toggled.connect(self._input_changed)
         grid.addRow("Invert", self.invert)
-        self.pixel_size = QtWidgets.QDoubleSpinBox()
-        self.pixel_size.setRange(1e-4, 1e4)
-        self.pixel_size.setDecimals(4)
-        self.pixel_size.setValue(1.0)
-        self.pixel_size.setSuffix(" mm")
-        grid.addRow("Pixel size", self.pixel_size)
-        self.thickness = QtWidgets.QDoubleSpinBox()
-        self.thickness.setRange(0, 1e5)
-        self.thickness.setDecimals(3)
-        self.thickness.setSpecialValueText("auto (10 pixels)")
-        self.thickness.setSuffix(" mm")
-        grid.addRow("Thickness", self.thickness)
+        add_model_frame_rows(self, grid)
 
     # ---- inputs -------------------------------------------------------------------------
 

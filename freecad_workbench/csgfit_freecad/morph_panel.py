@@ -8,7 +8,7 @@ from PySide2 import QtWidgets
 
 from . import morph_builder
 from .fit_panel import FitPanel
-from .image_panel import IMAGE_FILTER
+from .image_panel import IMAGE_FILTER, add_model_frame_rows
 
 PRESETS = ("default", "paper")
 ROTATIONS = ("shortest", "cw", "ccw")
@@ -29,31 +29,13 @@ class MorphPanel(FitPanel):
 
     def _add_settings(self, grid):
         grid.addRow("Image B", self._image_b_row())
-        self.time = QtWidgets.QDoubleSpinBox()
-        self.time.setRange(0.1, 3600)
-        self.time.setValue(20)
-        self.time.setSuffix(" s")
-        grid.addRow("Time budget", self.time)
+        self._add_time_row(grid, 20, 0.1)
         self.preset = self._choice(PRESETS, "paper: the parameters of Gibson et al., Table 2")
         grid.addRow("Preset", self.preset)
         self.rotate = self._choice(ROTATIONS, "Which way a primitive turns from A to B")
         grid.addRow("Rotate", self.rotate)
-        self.seed = QtWidgets.QSpinBox()
-        self.seed.setRange(0, 2 ** 31 - 1)
-        self.seed.setValue(1)
-        grid.addRow("Seed", self.seed)
-        self.pixel_size = QtWidgets.QDoubleSpinBox()
-        self.pixel_size.setRange(1e-4, 1e4)
-        self.pixel_size.setDecimals(4)
-        self.pixel_size.setValue(1.0)
-        self.pixel_size.setSuffix(" mm")
-        grid.addRow("Pixel size", self.pixel_size)
-        self.thickness = QtWidgets.QDoubleSpinBox()
-        self.thickness.setRange(0, 1e5)
-        self.thickness.setDecimals(3)
-        self.thickness.setSpecialValueText("auto (10 pixels)")
-        self.thickness.setSuffix(" mm")
-        grid.addRow("Thickness", self.thickness)
+        self._add_seed_row(grid)
+        add_model_frame_rows(self, grid)
 
     def _image_b_row(self):
         row = QtWidgets.QWidget()

@@ -10,6 +10,8 @@
 #include "csgfit/io/files.h"
 #include "csgfit/io/image.h"
 #include "csgfit/io/input3d.h"
+#include "csgfit/io/mesh_read.h"
+#include "csgfit/io/voxels_read.h"
 #include "csgfit/io/json.h"
 #include "csgfit/pipeline/fit_morph.h"
 #include "fcstd_writer.h"
@@ -76,13 +78,9 @@ MorphFormat morph_format(const std::string& out) {
                    (ext.empty() ? out : ext) + "'");
 }
 
-bool is_image(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (const char* e : {".png", ".jpg", ".jpeg", ".bmp", ".pgm", ".pbm", ".ppm", ".tga"})
-    if (ext == e) return true;
-  return false;
-}
+// A mesh or voxel grid by its extension, as read_input3d picks its reader; anything else is an
+// image, whose reader recognises the format by its content.
+bool is_3d_input(const std::string& path) { return is_mesh_path(path) || is_voxel_path(path); }
 
 std::string file_name(const std::string& path) { return fs::path(path).filename().string(); }
 
@@ -137,11 +135,7 @@ void run_morph2d(const MorphArgs& a, MorphFormat format) {
                      std::to_string(bb.width()) + " x " + std::to_string(bb.height()) +
                      " (scale one to the other's size first)");
   MorphOptions options;
-  try {
-    if (!a.primitives.empty()) options.fit.primitives = PrimitiveSet::parse(a.primitives);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(std::string("--primitives: ") + e.what());
-  }
+  if (!a.primitives.empty()) options.fit.primitives = primitive_set<PrimitiveSet>(a.primitives);
   options.fit.k = a.k;
   options.fit.time_limit = a.time_limit;
   options.fit.threads = a.threads;
@@ -161,6 +155,9 @@ void run_morph2d(const MorphArgs& a, MorphFormat format) {
   scad.fn = a.fn;
   scad.width_px = r.width;
   scad.height_px = r.height;
+  // The frames are drawn once, for the .gif and for --frames-dir alike.
+  std::vector<Bitmap> frames;
+  if (format == MorphFormat::Gif || !a.frames_dir.empty()) frames = frames_of(r, a.frames);
   switch (format) {
     case MorphFormat::Scad:
       write_file_atomic(a.output, to_scad_morph(r.a, r.b, frame, file_name(a.b), scad, &r.stats_a));
@@ -170,17 +167,15 @@ void run_morph2d(const MorphArgs& a, MorphFormat format) {
       break;
     case MorphFormat::FCStd: write_fcstd(to_json_morph(r, frame, file_name(a.b), options.rotate), a.output); break;
     case MorphFormat::Gif:
-      write_bitmaps_gif(a.output, frames_of(r, a.frames), r.width < 256 ? 2 : 1, std::max(2, 200 / a.frames));
+      write_bitmaps_gif(a.output, frames, r.width < 256 ? 2 : 1, std::max(2, 200 / a.frames));
       break;
   }
-  if (!a.frames_dir.empty()) {
-    const std::vector<Bitmap> frames = frames_of(r, a.frames);
+  if (!a.frames_dir.empty())
     for (std::size_t i = 0; i < frames.size(); ++i) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%03zu.png", i);
       write_bitmap_png((fs::path(a.frames_dir) / name).string(), frames[i]);
     }
-  }
   if (!a.quiet) print_morph_summary(r.stats_a, r.stats_b, one_sided(r));
 }
 
@@ -189,11 +184,7 @@ void run_morph3d(const MorphArgs& a, MorphFormat format) {
     throw InputError("frames (.gif, --frames-dir) are drawn for 2D morphs only; write .scad and animate it in OpenSCAD");
   const auto [ga, gb] = morph_grids(read_input3d(a.a), read_input3d(a.b), a.resolution);
   FitOptions3D options;
-  try {
-    if (!a.primitives.empty()) options.primitives = PrimitiveSet3D::parse(a.primitives);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(std::string("--primitives: ") + e.what());
-  }
+  if (!a.primitives.empty()) options.primitives = primitive_set<PrimitiveSet3D>(a.primitives);
   options.k = a.k;
   options.time_limit = a.time_limit;
   options.threads = a.threads;
@@ -220,13 +211,13 @@ void run_morph(const MorphArgs& a) {
   const MorphFormat format = morph_format(a.output);
   check_writable(a.output);
   if (!a.frames_dir.empty()) check_frames_dir(a.frames_dir);
-  const bool image_a = is_image(a.a), image_b = is_image(a.b);
-  if (image_a != image_b)
+  const bool solid_a = is_3d_input(a.a), solid_b = is_3d_input(a.b);
+  if (solid_a != solid_b)
     throw InputError("give two images or two meshes / voxel grids, not '" + a.a + "' and '" + a.b + "'");
-  if (image_a)
-    run_morph2d(a, format);
-  else
+  if (solid_a)
     run_morph3d(a, format);
+  else
+    run_morph2d(a, format);
 }
 
 }  // namespace

@@ -38,16 +38,22 @@ struct FitArgsHelp {
 /// Registers the shared options on `command`, bound to `args`.
 void add_fit_args(CLI::App& command, FitArgs& args, const FitArgsHelp& help);
 
+/// The --primitives list as a PrimitiveSet or PrimitiveSet3D; InputError naming the bad item.
+template <class Set>
+Set primitive_set(const std::string& list) {
+  try {
+    return Set::parse(list);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("--primitives: ") + e.what());
+  }
+}
+
 /// The search options (FitOptions or FitOptions3D) that `args` asks for. Throws InputError for
 /// a bad --primitives list.
 template <class Options>
 Options fit_options(const FitArgs& args) {
   Options options;
-  try {
-    options.primitives = decltype(options.primitives)::parse(args.primitives);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(std::string("--primitives: ") + e.what());
-  }
+  options.primitives = primitive_set<decltype(options.primitives)>(args.primitives);
   options.k = args.k;
   options.time_limit = args.time_limit;
   options.threads = args.threads;

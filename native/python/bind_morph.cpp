@@ -10,6 +10,8 @@
 #include "csgfit/error.h"
 #include "csgfit/io/input3d.h"
 #include "csgfit/io/json.h"
+#include "csgfit/io/mesh_read.h"
+#include "csgfit/io/voxels_read.h"
 #include "csgfit/pipeline/fit_morph.h"
 #include "options.h"
 #include "progress.h"
@@ -137,6 +139,10 @@ void bind_morph2d(py::module_& m) {
       py::arg("progress") = py::none(), py::arg("cancel") = nullptr, py::arg("pixel_size") = 1.0,
       py::arg("thickness") = 0.0, py::arg("source_a") = "", py::arg("source_b") = "",
       "Searches two trees of one structure for masks a and b (same shape). Releases the GIL.");
+  m.def(
+      "is_3d_input",
+      [](const std::string& path) { return csgfit::is_mesh_path(path) || csgfit::is_voxel_path(path); },
+      py::arg("path"), "Whether a path names a mesh or voxel grid (by extension, as the readers do).");
   m.def("is_json_morph", &csgfit::is_json_morph, py::arg("text"),
         "Whether JSON text is a morph document (it has a 'morph' object).");
   m.def(

@@ -15,7 +15,6 @@ from .tree import tree_from_json3d, tree_from_pixels
 
 PRESETS = ("default", "paper")
 ROTATIONS = ("shortest", "cw", "ccw")
-_IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".bmp", ".pgm", ".pbm", ".ppm", ".tga")
 
 
 class MorphResult:
@@ -91,11 +90,6 @@ class MorphResult:
                 f"iou_b={self.stats_b.iou:.4f}, seconds={self.stats_a.seconds:.2f})")
 
 
-def _is_image_path(x) -> bool:
-    return isinstance(x, (str, bytes, os.PathLike)) and \
-        os.path.splitext(os.fsdecode(x))[1].lower() in _IMAGE_EXTENSIONS
-
-
 def _mask(image, threshold, invert, max_size):
     if isinstance(image, (str, bytes, os.PathLike)):
         path = os.fsdecode(image)
@@ -127,10 +121,11 @@ def morph(a, b, *, threshold: Optional[int] = None, invert: bool = False,
         raise InputError(f"unknown preset '{preset}' (expected {', '.join(PRESETS)})")
     if rotate not in ROTATIONS:
         raise InputError(f"unknown rotation '{rotate}' (expected {', '.join(ROTATIONS)})")
+    solid = _three_dimensional(a, b)
     search = search_arguments(k=k, primitives=primitives, time=time, threads=threads, seed=seed,
                               progress=progress, cancel=cancel,
-                              default_primitives="all" if _two_dimensional(a, b) else "")
-    if not _two_dimensional(a, b):
+                              default_primitives="" if solid else "all")
+    if solid:
         return MorphResult(_csgfit.morph_files3d(
             os.fsdecode(a), os.fsdecode(b), resolution=integer("resolution", resolution, "resolution"),
             source_a=os.path.basename(os.fsdecode(a)), source_b=os.path.basename(os.fsdecode(b)),
@@ -150,10 +145,11 @@ def morph(a, b, *, threshold: Optional[int] = None, invert: bool = False,
                                      source_a=source_a, source_b=source_b, **search), 2)
 
 
-def _two_dimensional(a, b) -> bool:
-    """Images (paths or arrays) on both sides; a mix of an image and a 3D file is refused."""
-    image_a = _is_image_path(a) or not isinstance(a, (str, bytes, os.PathLike))
-    image_b = _is_image_path(b) or not isinstance(b, (str, bytes, os.PathLike))
-    if image_a != image_b:
+def _three_dimensional(a, b) -> bool:
+    """Two mesh / voxel files (by extension, as the readers pick them); images or arrays
+    otherwise. A mix of an image and a 3D file is refused."""
+    def solid(x):
+        return isinstance(x, (str, bytes, os.PathLike)) and _csgfit.is_3d_input(os.fsdecode(x))
+    if solid(a) != solid(b):
         raise InputError("give two images or two meshes / voxel files, not one of each")
-    return image_a
+    return solid(a)

@@ -137,7 +137,7 @@ MorphResult morph_bitmaps(const Bitmap& a, const Bitmap& b, const MorphOptions& 
       add_copies(maker, c->tree, first);
     evaluations += maker.evaluations;
   }
-  auto isles = morph::first_populations<Dim>(problem, first, fo.seed, count, per_island, true);
+  auto isles = morph::first_populations<Dim>(problem, first, fo.seed, count, per_island);
 
   const islands::Limits limits{start, fo.time_limit, 0.9 * fo.time_limit, cancel, progress};
   const auto found =
@@ -185,7 +185,7 @@ MorphResult3D morph_voxels(const VoxelGrid& a, const VoxelGrid& b, const FitOpti
   evaluations += maker.evaluations;
   if (first.empty()) throw std::invalid_argument("seed 003 found no primitive for either shape");
   auto isles = morph::first_populations<Dim>(problem, first, options.seed,
-                                             islands::island_count(options.threads), 1, false);
+                                             islands::island_count(options.threads), 1);
   Pair<Dim> known = first.front();
   for (const Pair<Dim>& c : first)
     if (c.score < known.score) known = c;

@@ -20,21 +20,20 @@ namespace csgfit::morph {
 template <typename Dim>
 using Isle = islands::Island<PairOperators<Dim>>;
 
-/// Islands whose populations hold `first` (in turn, from a different one on each island) and, when `random_rest`, seed 000's random
-/// pairs after them (where the dimension has them); `per_island` members each, at least one
-/// first pair without random ones.
+/// Islands whose populations hold `first` (in turn, from a different one on each island) and
+/// then seed 000's random pairs where the dimension has them (Dim::random_trees; without them
+/// the first pairs repeat); `per_island` members each.
 template <typename Dim>
 std::vector<Isle<Dim>> first_populations(const PairProblem<Dim>& problem,
                                          const std::vector<PairCandidate<Dim>>& first,
-                                         std::uint64_t seed, int count, std::size_t per_island,
-                                         bool random_rest) {
+                                         std::uint64_t seed, int count, std::size_t per_island) {
   auto isles = islands::make_islands<PairOperators<Dim>>(problem, seed, count);
   islands::in_parallel<PairOperators<Dim>>(isles, [&](Isle<Dim>& isle) {
     // Island i starts with first[i], so that each first pair leads on some island.
     const std::size_t i = static_cast<std::size_t>(&isle - isles.data());
     for (std::size_t j = 0; j < per_island; ++j) {
       if constexpr (Dim::random_trees) {
-        if (random_rest && (j >= first.size() || first.empty())) {
+        if (j >= first.size()) {
           isle.population.push_back(isle.ops.random_pair());
           continue;
         }
@@ -103,7 +102,8 @@ void fill_result(Result& out, PairCandidate<Dim> best, const PairProblem<Dim>& p
   out.a = std::move(best.a.tree);
   out.b = std::move(best.b.tree);
   const auto stats = [&](FitStats& s, const typename Dim::Problem& pb, const typename Dim::Tree& t) {
-    const typename Dim::Single c = Dim::scored(pb, t);
+    std::size_t unused = 0;  // a last scoring for the stats, not part of the search
+    const typename Dim::Single c = Dim::Ops::scored(pb, t, unused);
     set_mismatch_stats(s, c.mismatch, pb.target->count(), c.primitives, pb.k);
     s.trees = found.trees;
     s.evaluations = evaluations;

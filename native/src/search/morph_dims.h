@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstddef>
-#include <limits>
 #include <vector>
 
 #include "csgfit/eval/evaluator2d.h"
@@ -68,17 +67,6 @@ struct Dim2D {
   static Single evaluate(Ops& x, Tree tree, const std::vector<Prim>& fresh) {
     return x.evaluate(std::move(tree), fresh, false);
   }
-  static Single scored(const Problem& pb, Tree tree) {
-    Single c;
-    c.score = std::numeric_limits<double>::infinity();  // a tree without leaves never wins
-    if (tree.primitive_count() == 0) return c;
-    TreeEvaluator ev(*pb.target, tree);
-    c.mismatch = ev.mismatch();
-    c.primitives = tree.primitive_count();
-    c.score = score(c.mismatch, c.primitives, pb.k);
-    c.tree = std::move(tree);
-    return c;
-  }
 };
 
 /// The 3D pair search: REP gives one leaf another kind and orientation, ADD matches a
@@ -136,17 +124,6 @@ struct Dim3D {
   static Single evaluate(Ops& x, Tree tree, const std::vector<Prim>& fresh) {
     // A cut changes no primitive: its neighbours get a short polish instead (as in 3D fits).
     return x.evaluate(std::move(tree), fresh, fresh.empty());
-  }
-  static Single scored(const Problem& pb, Tree tree) {
-    Single c;
-    if (tree.primitive_count() == 0) return c;
-    TreeEvaluator3D ev(*pb.target, tree);
-    c.mismatch = ev.mismatch();
-    c.primitives = tree.primitive_count();
-    c.score = score(c.mismatch, c.primitives, pb.k);
-    c.result = ev.result();
-    c.tree = std::move(tree);
-    return c;
   }
 };
 

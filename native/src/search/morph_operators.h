@@ -104,9 +104,8 @@ class PairOperators {
   /// Both trees scored as they are (no optimisation).
   Candidate scored(Tree ta, Tree tb) {
     Candidate c;
-    c.a = Dim::scored(*pb_.a, std::move(ta));
-    c.b = Dim::scored(*pb_.b, std::move(tb));
-    evaluations += 2;
+    c.a = Ops::scored(*pb_.a, std::move(ta), evaluations);
+    c.b = Ops::scored(*pb_.b, std::move(tb), evaluations);
     return combine(std::move(c));
   }
 

@@ -30,11 +30,18 @@ Candidate2D Operators2D::evaluate(Node tree, const std::vector<Primitive>& fresh
     evaluations += ev.evaluations();
   }
   if (pruned) prune(tree, *pb_.target, pb_.k);
-  TreeEvaluator ev(*pb_.target, tree);
+  return scored(pb_, std::move(tree), evaluations);
+}
+
+Candidate2D Operators2D::scored(const Problem2D& pb, Node tree, std::size_t& evaluations) {
+  Candidate c;
+  c.score = std::numeric_limits<double>::infinity();
+  if (tree.primitive_count() == 0) return c;
+  TreeEvaluator ev(*pb.target, tree);
   evaluations += ev.evaluations() + tree.primitive_count();
   c.mismatch = ev.mismatch();
   c.primitives = tree.primitive_count();
-  c.score = score(c.mismatch, c.primitives, pb_.k);
+  c.score = score(c.mismatch, c.primitives, pb.k);
   c.tree = std::move(tree);
   return c;
 }

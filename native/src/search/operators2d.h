@@ -43,6 +43,9 @@ class Operators2D : public search_ops::IslandOperators<Problem2D> {
   /// Scores a tree after optimising the leaves equal to one of `fresh`, then all leaves a
   /// little, and pruning it (unless `pruned` is false: a morph's trees keep their structure).
   Candidate evaluate(Node tree, const std::vector<Primitive>& fresh, bool pruned = true);
+  /// `tree` scored as it is (no optimisation), its evaluations added to `evaluations`; a tree
+  /// without leaves scores infinity.
+  static Candidate scored(const Problem2D& pb, Node tree, std::size_t& evaluations);
   /// A child of `parent`: one perturbation drawn by the odds, then evaluate().
   Candidate perturb(const Candidate& parent);
   /// Nothing to do: evaluate() already pruned the child.

@@ -85,12 +85,20 @@ Candidate3D Operators3D::evaluate(Node3D tree, const std::vector<Primitive3D>& f
 
 void Operators3D::accept(Candidate& c) {
   if (prune(c.tree, *pb_.target, pb_.k) == 0) return;
-  TreeEvaluator3D ev(*pb_.target, c.tree);
-  evaluations += ev.evaluations() + c.tree.primitive_count();
+  c = scored(pb_, std::move(c.tree), evaluations);
+}
+
+Candidate3D Operators3D::scored(const Problem3D& pb, Node3D tree, std::size_t& evaluations) {
+  Candidate c;
+  if (tree.primitive_count() == 0) return c;
+  TreeEvaluator3D ev(*pb.target, tree);
+  evaluations += ev.evaluations() + tree.primitive_count();
   c.mismatch = ev.mismatch();
-  c.primitives = c.tree.primitive_count();
-  c.score = score(c.mismatch, c.primitives, pb_.k);
+  c.primitives = tree.primitive_count();
+  c.score = score(c.mismatch, c.primitives, pb.k);
   c.result = ev.result();
+  c.tree = std::move(tree);
+  return c;
 }
 
 std::optional<Primitive3D> Operators3D::residual_match(const VoxelGrid& raster, bool as_union) {

@@ -52,6 +52,9 @@ class Operators3D : public search_ops::IslandOperators<Problem3D> {
   Candidate perturb(const Candidate& parent);
   /// Prunes an accepted tree and rescores it.
   void accept(Candidate& c);
+  /// `tree` scored as it is (no optimisation), its evaluations added to `evaluations`; a tree
+  /// without leaves scores infinity.
+  static Candidate scored(const Problem3D& pb, Node3D tree, std::size_t& evaluations);
   /// ADD's new primitive: seed 003's match to the thick part of what `raster` (the tree's
   /// voxels) misses (as_union) or adds; nothing when the residual is thin everywhere.
   std::optional<Primitive3D> residual_match(const VoxelGrid& raster, bool as_union);
