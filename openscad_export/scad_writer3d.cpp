@@ -12,6 +12,7 @@
 
 #include "csgfit/error.h"
 #include "scad_format.h"
+#include "scad_patch.h"
 #include "scad_tree_writer.h"
 
 namespace csgfit {
@@ -43,6 +44,10 @@ class Writer : public TreeWriter<Writer, Node3D> {
   bool uses_spheres() const { return spheres_; }
   bool uses_circles() const { return circles_; }
   bool uses_tori() const { return tori_; }
+  /// Modules the body calls (one polyhedron per NURBS terminal) and the header lines saying
+  /// how far each strays from its exact patch.
+  const std::string& modules() const { return modules_; }
+  const std::vector<std::string>& notes() const { return notes_; }
 
  private:
   static double check(double v, const char* what, const std::string& prim) {
@@ -117,6 +122,10 @@ class Writer : public TreeWriter<Writer, Node3D> {
   const std::vector<Turn>* turns_ = nullptr;
   bool at_b_ = false;
   bool spheres_ = false, circles_ = false, tori_ = false;
+  std::string modules_;
+  std::vector<std::string> notes_;
+
+  std::string nurbs(const Primitive3D& p, const std::string& prefix, const std::string& what);
 };
 
 std::string Writer::primitive(const Primitive3D& p) {
@@ -131,6 +140,7 @@ std::string Writer::primitive(const Primitive3D& p) {
     case PrimitiveKind3D::Ellipsoid: prefix = "ellipsoid_", title = "Ellipsoid "; break;
     case PrimitiveKind3D::Torus: prefix = "torus_", title = "Torus "; break;
     case PrimitiveKind3D::TriangularPrism: prefix = "prism_", title = "Prism "; break;
+    case PrimitiveKind3D::Nurbs: prefix = "nurbs_", title = "NURBS patch "; break;
   }
   prefix += num;
   title += num;
@@ -207,9 +217,28 @@ std::string Writer::primitive(const Primitive3D& p) {
               " / 2]]);";
       break;
     }
+    case PrimitiveKind3D::Nurbs: code += nurbs(p, prefix, what); break;
   }
   tabs_.push_back(std::move(tab));
   return code;
+}
+
+// The patch's polyhedron within 1e-4 of its size (about 0.005 mm on a 60 mm die), as a module
+// so that the body stays readable; its control net is not a Customizer parameter (edit the
+// JSON or the FreeCAD feature's control points instead).
+std::string Writer::nurbs(const Primitive3D& p, const std::string& prefix, const std::string& what) {
+  if (!p.patch) throw InputError("cannot write .scad: " + what + " has no patch");
+  for (const Vec3& v : p.patch->net())
+    for (double c : v) check(c, "control point", what);
+  const double tolerance = 1e-4 * std::max({p.dims[0], p.dims[1], p.dims[2]});
+  const scad::PatchPolyhedron poly = scad::patch_polyhedron(*p.patch, tolerance, decimals_ + 2);
+  char note[200];
+  std::snprintf(note, sizeof note,
+                "%s: polyhedron of %dx%d cells, deviation <= %.3g mm from the exact B-spline patch",
+                prefix.c_str(), poly.cells_x, poly.cells_y, poly.deviation);
+  notes_.push_back(note);
+  modules_ += "// " + std::string(note) + "\nmodule csg_" + prefix + "()\n  " + poly.code + "\n\n";
+  return "csg_" + prefix + "();";
 }
 
 }  // namespace
@@ -273,6 +302,7 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
   if (morph_b) out << " (morph = 0) and " << comment_safe(source_b) << " (morph = 1)";
   out << "\n// Units: those of the source model (mm), z up.\n";
   if (!options.summary.empty()) out << "// Fit: " << comment_safe(options.summary) << "\n";
+  for (const std::string& note : writer.notes()) out << "// " << note << "\n";
   out << "// Every dimension below is a Customizer parameter (Window > Customizer).\n\n";
   if (morph_b) write_morph_slider(out, options.source, source_b);
   write_resolution(out, options.fn);
@@ -317,6 +347,7 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
            "  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), R / r), 1]) "
            "circle(r = fn_r(r));\n\n";
   }
+  out << writer.modules();
   out << "module " << module << "() {\n" << body << "}\n\n";
   out << module << "();\n";
   return out.str();

@@ -39,6 +39,10 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <BRep_Builder.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Elips.hxx>
 #include <gp_GTrsf.hxx>
@@ -124,6 +128,58 @@ TopoDS_Shape extrude(const TopoDS_Face& f, double height) {
   return BRepPrimAPI_MakePrism(f, gp_Vec(0, 0, height), Standard_True).Shape();
 }
 
+// A clamped knot vector as OCCT wants it: the distinct knots and their multiplicities.
+void knots_and_mults(const std::vector<double>& knots, std::vector<double>& distinct,
+                     std::vector<int>& mults) {
+  for (double k : knots) {
+    if (!distinct.empty() && k == distinct.back()) {
+      ++mults.back();
+    } else {
+      distinct.push_back(k);
+      mults.push_back(1);
+    }
+  }
+}
+
+Handle(Geom_BSplineSurface) occt_surface(const BSplineSurface& s, const std::string& what) {
+  const int nu = s.u_basis().count(), nv = s.v_basis().count();
+  TColgp_Array2OfPnt poles(1, nu, 1, nv);
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const Vec3& c = s.control_point(i, j);
+      poles.SetValue(i + 1, j + 1, gp_Pnt(finite(c[0], "control point", what),
+                                          finite(c[1], "control point", what),
+                                          finite(c[2], "control point", what)));
+    }
+  std::vector<double> ku, kv;
+  std::vector<int> mu, mv;
+  knots_and_mults(s.u_basis().knots(), ku, mu);
+  knots_and_mults(s.v_basis().knots(), kv, mv);
+  TColStd_Array1OfReal uk(1, static_cast<int>(ku.size())), vk(1, static_cast<int>(kv.size()));
+  TColStd_Array1OfInteger um(1, static_cast<int>(mu.size())), vm(1, static_cast<int>(mv.size()));
+  for (std::size_t i = 0; i < ku.size(); ++i) uk.SetValue(static_cast<int>(i) + 1, ku[i]), um.SetValue(static_cast<int>(i) + 1, mu[i]);
+  for (std::size_t i = 0; i < kv.size(); ++i) vk.SetValue(static_cast<int>(i) + 1, kv[i]), vm.SetValue(static_cast<int>(i) + 1, mv[i]);
+  return new Geom_BSplineSurface(poles, uk, vk, um, vm, s.u_basis().degree(), s.v_basis().degree());
+}
+
+// The exact patch as the top face, extruded down past the floor and cut at it: the prism's
+// walls are the rectangle's, and the slab is wider than them so that only the floor is a new
+// cut (coincident faces are where booleans go wrong).
+TopoDS_Shape nurbs_solid(const Primitive3D& p, const std::string& what) {
+  if (!p.patch) throw InputError("cannot write STEP: " + what + " has no patch");
+  const double top = positive(p.dims[2], "top height", what);
+  const double sx = positive(p.dims[0], "size x", what), sy = positive(p.dims[1], "size y", what);
+  double low = 0;
+  for (const Vec3& v : p.patch->net()) low = std::min(low, v[2]);
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(occt_surface(*p.patch, what), 1e-7).Face();
+  const double drop = top - low + 0.1 * top;
+  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, -drop)).Shape();
+  const double m = 0.05 * std::max(sx, sy);
+  const TopoDS_Shape slab =
+      BRepPrimAPI_MakeBox(gp_Pnt(-sx / 2 - m, -sy / 2 - m, 0), sx + 2 * m, sy + 2 * m, top + m).Shape();
+  return BRepAlgoAPI_Common(prism, slab).Shape();
+}
+
 TopoDS_Shape local_solid(const Primitive3D& p, const std::string& what) {
   const Vec3& d = p.dims;
   switch (p.kind) {
@@ -179,6 +235,7 @@ TopoDS_Shape local_solid(const Primitive3D& p, const std::string& what) {
                                    gp_Pnt(apex * w / 2, h / 2, z)}),
                      depth);
     }
+    case PrimitiveKind3D::Nurbs: return nurbs_solid(p, what);
   }
   throw InputError("cannot write STEP: unknown primitive kind");
 }

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "model/nurbs_terminal.h"
 #include "model/prism_triangle.h"
 
 namespace csgfit {
@@ -48,6 +49,7 @@ std::string_view to_string(PrimitiveKind3D kind) {
     case PrimitiveKind3D::Ellipsoid: return "ellipsoid";
     case PrimitiveKind3D::Torus: return "torus";
     case PrimitiveKind3D::TriangularPrism: return "prism";
+    case PrimitiveKind3D::Nurbs: return "nurbs";
   }
   return "?";
 }
@@ -61,8 +63,10 @@ PrimitiveKind3D primitive_kind3d_from_string(std::string_view name) {
   if (name == "torus") return PrimitiveKind3D::Torus;
   if (name == "prism" || name == "triangular_prism" || name == "wedge")
     return PrimitiveKind3D::TriangularPrism;
-  throw std::invalid_argument("unknown 3D primitive '" + std::string(name) +
-                              "' (expected box, sphere, cylinder, cone, ellipsoid, torus or prism)");
+  if (name == "nurbs" || name == "bspline") return PrimitiveKind3D::Nurbs;
+  throw std::invalid_argument(
+      "unknown 3D primitive '" + std::string(name) +
+      "' (expected box, sphere, cylinder, cone, ellipsoid, torus, prism or nurbs)");
 }
 
 PrimitiveSet3D PrimitiveSet3D::all() {
@@ -150,6 +154,20 @@ Primitive3D Primitive3D::prism(double cx, double cy, double cz, double w, double
                                double apex, const Quaternion& rotation) {
   return make(PrimitiveKind3D::TriangularPrism, cx, cy, cz, rotation, {w, h, depth}, apex);
 }
+Primitive3D Primitive3D::nurbs(double cx, double cy, double cz, BSplineSurface surface,
+                               const Quaternion& rotation) {
+  const XYRectangle& r = surface.rectangle();
+  const double tol = 1e-9 * std::max(r.x1 - r.x0, r.y1 - r.y0);
+  if (!(r.x1 > r.x0 && r.y1 > r.y0) || std::fabs(r.x0 + r.x1) > tol || std::fabs(r.y0 + r.y1) > tol)
+    throw std::invalid_argument("a NURBS terminal's patch must be a height field centred on the origin");
+  Primitive3D p;
+  p.kind = PrimitiveKind3D::Nurbs;
+  p.cx = cx, p.cy = cy, p.cz = cz;
+  p.rotation = rotation;
+  p.patch = std::make_shared<const BSplineSurface>(std::move(surface));
+  p.normalize();
+  return p;
+}
 
 double Primitive3D::volume() const {
   const Vec3& d = dims;
@@ -162,6 +180,7 @@ double Primitive3D::volume() const {
     case PrimitiveKind3D::Ellipsoid: return 4.0 / 3.0 * kPi * d[0] * d[1] * d[2];
     case PrimitiveKind3D::Torus: return 2.0 * kPi * kPi * d[0] * d[1] * d[1];
     case PrimitiveKind3D::TriangularPrism: return 0.5 * d[0] * d[1] * d[2];
+    case PrimitiveKind3D::Nurbs: return nurbs::volume(*this);
   }
   return 0;
 }
@@ -208,6 +227,7 @@ bool Primitive3D::contains(double x, double y, double z) const {
       }
       return true;
     }
+    case PrimitiveKind3D::Nurbs: return nurbs::contains(*this, l);
   }
   return false;
 }
@@ -262,6 +282,7 @@ double Primitive3D::signed_distance(double x, double y, double z) const {
       }
       return extrusion_distance(inside ? -best : best, std::fabs(l[2]) - d[2] / 2);
     }
+    case PrimitiveKind3D::Nurbs: return nurbs::signed_distance(*this, l);
   }
   return 0;
 }
@@ -321,6 +342,22 @@ Bounds3 Primitive3D::bounds() const {
       symmetric(e);
       break;
     }
+    case PrimitiveKind3D::Nurbs: {
+      // The convex hull property: the patch lies between its lowest and highest control heights.
+      double low = 0;
+      for (const Vec3& v : patch->net()) low = std::min(low, v[2]);
+      out.lo = {kInf, kInf, kInf};
+      out.hi = {-kInf, -kInf, -kInf};
+      for (double lx : {-d[0] / 2, d[0] / 2})
+        for (double ly : {-d[1] / 2, d[1] / 2})
+          for (double lz : {low, d[2]})
+            for (int i = 0; i < 3; ++i) {
+              const double w = c[i] + m[i][0] * lx + m[i][1] * ly + m[i][2] * lz;
+              out.lo[i] = std::min(out.lo[i], w);
+              out.hi[i] = std::max(out.hi[i], w);
+            }
+      break;
+    }
     case PrimitiveKind3D::TriangularPrism: {
       double t[3][2];
       triangle_local(*this, t);
@@ -363,6 +400,10 @@ void Primitive3D::normalize() {
       dims[1] = std::clamp(dims[1], kMinSize, dims[0]);
       dims[2] = 0;
       break;
+    case PrimitiveKind3D::Nurbs:
+      // The patch is the shape; dims only report it (a search moves the net, not dims).
+      if (patch) dims = nurbs::dims_of(*patch);
+      break;
     default:
       for (double& v : dims) v = std::max(v, kMinSize);
       break;
@@ -371,11 +412,12 @@ void Primitive3D::normalize() {
     apex = std::isfinite(apex) ? std::clamp(apex, -kMaxApex, kMaxApex) : 0.0;
   else
     apex = 0;
+  if (kind != PrimitiveKind3D::Nurbs) patch.reset();
 }
 
 bool Primitive3D::operator==(const Primitive3D& o) const {
   return kind == o.kind && cx == o.cx && cy == o.cy && cz == o.cz && rotation == o.rotation &&
-         dims == o.dims && apex == o.apex;
+         dims == o.dims && apex == o.apex && nurbs::same_patch(patch.get(), o.patch.get());
 }
 
 Bounds3 merged(const Bounds3& a, const Bounds3& b) {

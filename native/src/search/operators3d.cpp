@@ -23,6 +23,7 @@ Vec3 half_extents(const Primitive3D& p) {
   const Vec3& d = p.dims;
   switch (p.kind) {
     case PrimitiveKind3D::Box:
+    case PrimitiveKind3D::Nurbs:
     case PrimitiveKind3D::TriangularPrism: return {d[0] / 2, d[1] / 2, d[2] / 2};
     case PrimitiveKind3D::Cylinder: return {d[0], d[0], d[2] / 2};
     case PrimitiveKind3D::Cone: {
@@ -41,6 +42,8 @@ Primitive3D with_kind(const Primitive3D& p, PrimitiveKind3D kind, const Vec3& he
   const Quaternion& q = p.rotation;
   Primitive3D out;
   switch (kind) {
+    // The voxel search has no patch to fit: it never turns a leaf into a NURBS terminal.
+    case PrimitiveKind3D::Nurbs:
     case PrimitiveKind3D::Box: out = Primitive3D::box(cx, cy, cz, 2 * he[0], 2 * he[1], 2 * he[2], q); break;
     case PrimitiveKind3D::Sphere: out = Primitive3D::sphere(cx, cy, cz, (he[0] + he[1] + he[2]) / 3); break;
     case PrimitiveKind3D::Cylinder:

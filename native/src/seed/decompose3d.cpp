@@ -59,8 +59,9 @@ int simplicity(PrimitiveKind3D k) {
     case PrimitiveKind3D::Cone: return 4;
     case PrimitiveKind3D::TriangularPrism: return 5;
     case PrimitiveKind3D::Torus: return 6;
+    case PrimitiveKind3D::Nurbs: return 7;
   }
-  return 7;
+  return 8;
 }
 
 }  // namespace

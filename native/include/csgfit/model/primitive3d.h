@@ -1,23 +1,26 @@
-// 3D primitives: box, sphere, cylinder, cone (frustum), ellipsoid, torus, triangular prism;
-// their exact scan conversion at voxel centres, volumes and signed distances.
+// 3D primitives: box, sphere, cylinder, cone (frustum), ellipsoid, torus, triangular prism and
+// seed 004's NURBS terminal; their scan conversion at voxel centres, volumes and signed distances.
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "csgfit/model/bspline_surface.h"
 #include "csgfit/model/quaternion.h"
 #include "csgfit/model/voxel_grid.h"
 
 namespace csgfit {
 
-enum class PrimitiveKind3D { Box, Sphere, Cylinder, Cone, Ellipsoid, Torus, TriangularPrism };
+enum class PrimitiveKind3D { Box, Sphere, Cylinder, Cone, Ellipsoid, Torus, TriangularPrism, Nurbs };
 
 /// Canonical lower-case name ("box", "sphere", "cylinder", "cone", "ellipsoid", "torus",
-/// "prism").
+/// "prism", "nurbs").
 std::string_view to_string(PrimitiveKind3D kind);
-/// Parses a name as written by to_string (also "cube", "frustum", "wedge", "triangular_prism");
+/// Parses a name as written by to_string (also "cube", "frustum", "wedge", "triangular_prism",
+/// "bspline");
 /// throws std::invalid_argument naming the bad name.
 PrimitiveKind3D primitive_kind3d_from_string(std::string_view name);
 
@@ -48,12 +51,20 @@ bool clip_ray(const Bounds3& box, const Vec3& o, const Vec3& d, double& t0, doub
 ///  - TriangularPrism: dims = {w, h, depth}: seed 003's triangular block, the 2D Triangle of
 ///               primitive.h (base (-w/2, -h/2)-(w/2, -h/2), apex (apex * w/2, h/2)) in local
 ///               xy, extruded over z in [-depth/2, depth/2].
+///  - Nurbs:     seed 004's NURBS terminal: `patch` is a height field z = S(x, y) over the local
+///               rectangle |x| <= sx/2, |y| <= sy/2, and the solid is 0 <= z <= S(x, y) there
+///               (the local plane z = 0 is its floor, the patch its top face); dims = {sx, sy,
+///               top}, top the highest control height (the convex hull bounds S by it).
+///               Signed distances are the vertical gap scaled by the slope (first order).
 struct Primitive3D {
   PrimitiveKind3D kind = PrimitiveKind3D::Box;
   double cx = 0, cy = 0, cz = 0;
   Quaternion rotation;
   Vec3 dims{1, 1, 1};
   double apex = 0;  ///< TriangularPrism only
+  /// Nurbs only: the patch in local coordinates, shared by copies (a search copies trees
+  /// often; a mutation builds a new patch rather than editing one in place).
+  std::shared_ptr<const BSplineSurface> patch;
 
   static Primitive3D box(double cx, double cy, double cz, double sx, double sy, double sz,
                          const Quaternion& rotation = {});
@@ -68,6 +79,11 @@ struct Primitive3D {
                            const Quaternion& rotation = {});
   static Primitive3D prism(double cx, double cy, double cz, double w, double h, double depth,
                            double apex = 0, const Quaternion& rotation = {});
+  /// A NURBS terminal whose floor centre is (cx, cy, cz); `surface` is a height field over a
+  /// rectangle centred on the local origin (BSplineSurface::height_field with x0 = -x1,
+  /// y0 = -y1). Throws std::invalid_argument for any other surface.
+  static Primitive3D nurbs(double cx, double cy, double cz, BSplineSurface surface,
+                           const Quaternion& rotation = {});
 
   /// Exact volume of the continuous solid.
   double volume() const;
@@ -97,6 +113,7 @@ struct Primitive3D {
 /// Which 3D primitive kinds the matcher and the search may use.
 struct PrimitiveSet3D {
   unsigned bits = 0;
+  /// Every analytic kind (all but the NURBS terminal, which only `csgfit points` fits).
   static PrimitiveSet3D all();
   /// The kinds seed 003 matches by moments: box, sphere, cylinder, cone, ellipsoid, prism.
   static PrimitiveSet3D matchable();
@@ -119,6 +136,11 @@ bool is_axially_symmetric(PrimitiveKind3D kind);
 /// `out` first. Works per x-row (j, k) inside p's bounds, from the analytic x-interval(s) of
 /// p on that line (one for convex kinds, up to two for the torus).
 void rasterize(const Primitive3D& p, VoxelGrid& out);
+/// Where the line o + t d (d of unit length) lies inside p: up to four sorted, disjoint
+/// t-intervals [lo[i], hi[i]], solved exactly for the analytic kinds (as rasterize does a row)
+/// and for a NURBS terminal seen along its local vertical (seed 004's z-ray); a tilted patch is
+/// sampled and its crossings bisected. Returns how many were written.
+int line_intervals(const Primitive3D& p, const Vec3& o, const Vec3& d, double lo[4], double hi[4]);
 /// rasterize() without the clearing: sets p's voxels and leaves every other bit as it was
 /// (the incremental evaluator clears only the rows it is about to redraw).
 void rasterize_into(const Primitive3D& p, VoxelGrid& out);

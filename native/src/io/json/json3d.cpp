@@ -9,6 +9,7 @@
 #include "csgfit/error.h"
 #include "csgfit/io/json.h"
 #include "io/json/json_fields.h"
+#include "io/json/json_nurbs.h"
 
 namespace csgfit {
 
@@ -51,6 +52,7 @@ ojson node3d_to_json(const Node3D& n, const std::string& where) {
     case PrimitiveKind3D::TriangularPrism:
       j["w"] = d[0], j["h"] = d[1], j["depth"] = d[2], j["apex"] = finite(p.apex, where);
       break;
+    case PrimitiveKind3D::Nurbs: json_detail::write_nurbs_fields(p, where, j); break;
   }
   return j;
 }
@@ -136,6 +138,7 @@ Node3D node3d_from_json(const ojson& j, const std::string& where, int depth) {
       p.dims = {number(j, "w", where), number(j, "h", where), number(j, "depth", where)};
       p.apex = j.contains("apex") ? number(j, "apex", where) : 0;
       break;
+    case PrimitiveKind3D::Nurbs: json_detail::read_nurbs_fields(j, where, p); break;
   }
   for (double v : p.dims)
     if (v < 0 || (v == 0 && !(p.kind == PrimitiveKind3D::Cone || p.kind == PrimitiveKind3D::Torus)))
@@ -247,6 +250,33 @@ std::string to_json_range(const RangeFitResult& result, const std::vector<std::s
     patches.push_back(ojson{{"kind", std::string(to_string(p.kind))}, {"points", p.points.size()},
                             {"convex", p.convex}, {"rms", p.rms}});
   doc["patches"] = std::move(patches);
+  return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
+}
+
+std::string to_json_points(const PointsFitResult& result, const std::vector<std::string>& sources) {
+  ojson doc;
+  doc["schema"] = "csgfit/1";
+  doc["dimension"] = 3;
+  doc["units"] = "mm";
+  doc["source"] = sources.empty() ? std::string() : sources.front();
+  doc["sources"] = sources;
+  doc["tree"] = node3d_to_json(result.tree, "tree");
+  doc["stats"] = json_detail::stats_to_json(result.stats);
+  const FitnessTerms& f = result.terms;
+  doc["points"] = ojson{{"scan", result.scan == ScanKind::Top ? "top" : "all"},
+                        {"count", result.points},
+                        {"search", result.islands > 0 ? "gp" : "hill"},
+                        {"islands", result.islands},
+                        {"generations", result.generations},
+                        {"first_tree", result.first_tree},
+                        {"fitness", f.fitness},
+                        {"distance_term", f.distance},
+                        {"normals_term", f.normals},
+                        {"curvature_term", f.curvature},
+                        {"floor_term", f.floor},
+                        {"mean_distance", f.mean_distance},
+                        {"nodes", f.nodes},
+                        {"patch_rms", result.patch_rms}};
   return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
 }
 
