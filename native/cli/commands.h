@@ -38,6 +38,8 @@ Command add_mesh_command(CLI::App& app);
 
 /// csgfit range: range images or point clouds to a 3D CSG tree (seed 002).
 Command add_range_command(CLI::App& app);
+/// csgfit points (cmd_points.cpp): point clouds to CSG with NURBS terminals (seed 004).
+Command add_points_command(CLI::App& app);
 
 /// csgfit optimize: a CSG tree to a smaller one of the same solid (seed 001).
 Command add_optimize_command(CLI::App& app);

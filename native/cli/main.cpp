@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const std::vector<cli::Command> commands = {
       cli::add_image_command(app), cli::add_export_command(app), cli::add_render_command(app),
-      cli::add_mesh_command(app), cli::add_range_command(app),
+      cli::add_mesh_command(app), cli::add_range_command(app), cli::add_points_command(app),
       cli::add_optimize_command(app), cli::add_inflate_command(app), cli::add_morph_command(app)};
   if (const int status = parse(app, argc, argv); status >= 0) return status;
 

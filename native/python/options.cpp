@@ -110,7 +110,8 @@ const csgfit::NumberRule& rule_named(const std::string& name) {
       {"pixel_count", &r::pixel_count}, {"alternatives", &r::alternatives},
       {"threshold", &r::threshold}, {"focal_length", &r::focal_length},
       {"principal_point", &r::principal_point}, {"weight", &r::weight},
-      {"inflate_steps", &r::inflate_steps}, {"frames", &r::frames}};
+      {"inflate_steps", &r::inflate_steps}, {"frames", &r::frames},
+      {"islands", &r::islands}, {"height", &r::height}};
   for (const auto& [key, rule] : rules)
     if (name == key) return *rule;
   throw std::logic_error("no option rule named " + name);

@@ -8,6 +8,7 @@
 #include "csgfit/model/tree2d.h"
 #include "csgfit/pipeline/fit_bitmap.h"
 #include "csgfit/pipeline/fit_morph.h"
+#include "csgfit/pipeline/fit_points.h"
 #include "csgfit/pipeline/fit_range.h"
 #include "csgfit/pipeline/fit_voxels.h"
 
@@ -58,6 +59,12 @@ std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const st
 /// indices, "arcs" with from, to and kind "subtracting" or "appending") and "patches" (kind,
 /// points, convex, rms of each detected surface). docs/JSON_SCHEMA.md describes it.
 std::string to_json_range(const RangeFitResult& result, const std::vector<std::string>& sources);
+
+/// A point-cloud fit (seed 004) as JSON: the 3D document's "schema", "dimension", "units",
+/// "source", "sources", "tree" (NURBS terminals as "nurbs" leaves: degree, counts, knots, control
+/// points) and "stats", with "points": scan, count, search, islands, generations, first_tree, the
+/// fitness and its terms, mean_distance, nodes, patch_rms (docs/JSON_SCHEMA.md).
+std::string to_json_points(const PointsFitResult& result, const std::vector<std::string>& sources);
 
 /// A 2D morph as JSON: shape A's document (canvas, "tree", "stats") with "morph": {"source_b",
 /// "tree_b", "stats_b", "rotate", "leaves": [{"in_a", "in_b"}, ...]} (docs/JSON_SCHEMA.md).

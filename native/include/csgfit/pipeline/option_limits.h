@@ -35,6 +35,9 @@ inline constexpr NumberRule weight{"a score weight", 0, 1000, false, false};
 /// csgfit inflate's steps (seed 001's generator: 10).
 inline constexpr NumberRule inflate_steps{"a step count", 0, 1000, false, true};
 inline constexpr NumberRule frames{"a frame count", 2, 500, false, true};
+/// csgfit points: seed 004's islands (1 = one population) and the table's height.
+inline constexpr NumberRule islands{"an island count", 1, 64, false, true};
+inline constexpr NumberRule height{"a height in model units", -1e9, 1e9, false, false};
 /// --max-memory, in bytes: 16 MiB up to 1 PiB.
 inline constexpr NumberRule memory{"a memory size", 16.0 * (1 << 20), 1125899906842624.0, false, true};
 }  // namespace option_rules

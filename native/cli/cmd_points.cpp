@@ -1,0 +1,124 @@
+// csgfit points: a scanned point cloud to a CSG tree with NURBS terminals (seed 004).
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "commands.h"
+#include "csgfit/error.h"
+#include "csgfit/io/json.h"
+#include "csgfit/io/range_read.h"
+#include "csgfit/pipeline/fit_points.h"
+#include "option_checks.h"
+#include "output.h"
+#include "progress_bar.h"
+
+namespace fs = std::filesystem;
+
+namespace csgfit::cli {
+
+namespace {
+
+struct PointsArgs {
+  std::vector<std::string> inputs;
+  std::string output;
+  double time_limit = 30, floor = 0;
+  std::uint64_t seed = 1;
+  int threads = 0, fn = 96;
+  std::size_t islands = 4;
+  std::string primitives = "box,sphere,cylinder,nurbs", scan = "auto", search = "gp";
+  bool quiet = false, report = false;
+};
+
+void add_points_options(CLI::App& cmd, PointsArgs& a) {
+  cmd.add_option("inputs", a.inputs,
+                 "points (.xyz: x y z [nx ny nz] a line; .ply, ASCII or binary, with or without "
+                 "normals); several scans of one part are merged")
+      ->required();
+  cmd.add_option("-o,--output", a.output, "output: .scad, .json, .step or .FCStd")->required();
+  cmd.add_option("--time", a.time_limit, "time budget in seconds")->check(obeys(option_rules::time));
+  cmd.add_option("--seed", a.seed, "random seed: same seed, same tree (when the search ends by generations)")
+      ->check(seed_check());
+  cmd.add_option("--threads", a.threads, "worker threads (0 = all cores)")
+      ->check(obeys(option_rules::threads));
+  cmd.add_option("--primitives", a.primitives,
+                 "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism,nurbs");
+  cmd.add_option("--scan", a.scan, "top (seen from above: 2.5D), all (all around) or auto")
+      ->check(CLI::IsMember({"top", "all", "auto"}));
+  cmd.add_option("--floor", a.floor, "top scans: the height of the table the part stands on")
+      ->check(obeys(option_rules::height));
+  cmd.add_option("--search", a.search, "gp (seed 004's GP/ES on islands) or hill (the voxel hill climbing)")
+      ->check(CLI::IsMember({"gp", "hill"}));
+  cmd.add_option("--islands", a.islands, "GP populations (1 = one population)")
+      ->check(obeys(option_rules::islands));
+  cmd.add_option("--fn", a.fn, "OpenSCAD $fn for round primitives")->check(obeys(option_rules::fn));
+  cmd.add_flag("-q,--quiet", a.quiet, "no progress bar or summary");
+  cmd.add_flag("--report", a.report, "print seed 004's fitness terms of the result");
+  add_memory_option(cmd);
+}
+
+PointsFitOptions fit_options(const PointsArgs& a) {
+  PointsFitOptions o;
+  try {
+    o.primitives = PrimitiveSet3D::parse(a.primitives);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("--primitives: ") + e.what());
+  }
+  o.time_limit = a.time_limit;
+  o.seed = a.seed;
+  o.threads = a.threads;
+  o.floor = a.floor;
+  o.islands = a.islands;
+  o.search = a.search == "hill" ? PointSearch::Hill : PointSearch::Gp;
+  if (a.scan != "auto") o.scan = a.scan == "top" ? ScanKind::Top : ScanKind::All;
+  return o;
+}
+
+void print_report(const PointsFitResult& r) {
+  const FitnessTerms& f = r.terms;
+  std::printf("scan: %s, %zu points; search: %s", r.scan == ScanKind::Top ? "top" : "all", r.points,
+              r.islands ? "gp" : "hill");
+  if (r.islands) std::printf(" on %zu islands, %zu generations, from %s", r.islands, r.generations, r.first_tree.c_str());
+  std::printf("\nfitness %.5f = distance %.5f + normals %.5f + curvature %.5f - nodes %zu\n", f.fitness,
+              f.distance, f.normals, f.curvature, f.nodes);
+  std::printf("mean distance %.4g (%.3f %% of the diagonal); floor term %.4f", f.mean_distance,
+              100 * f.mean_distance / r.diagonal, f.floor);
+  if (r.patch_rms >= 0) std::printf("; NURBS patch rms %.4g", r.patch_rms);
+  std::printf("\n");
+}
+
+void run_points(const PointsArgs& a) {
+  check_output(a.output);
+  const PointsFitOptions options = fit_options(a);
+  for (const std::string& in : a.inputs) {
+    const std::string ext = fs::path(in).extension().string();
+    if (ext != ".xyz" && ext != ".ply" && ext != ".XYZ" && ext != ".PLY")
+      throw InputError("'" + in + "': csgfit points reads .xyz or .ply (range images: csgfit range)");
+  }
+  const std::vector<RangeScan> scans = read_ranges(a.inputs);
+  ProgressBar bar(!a.quiet);
+  const PointsFitResult fitted = fit_points(scans, options, bar.callback());
+  bar.finish();
+
+  Result3D out{fitted.tree, {}, {}};
+  out.scad.fn = a.fn;
+  out.scad.source = fs::path(a.inputs.front()).filename().string();
+  char summary[200];
+  std::snprintf(summary, sizeof summary, "%zu primitives, scan %s, %s, fitness %.4f, mean distance %.3g",
+                fitted.stats.primitives, fitted.scan == ScanKind::Top ? "top" : "all",
+                fitted.islands ? "GP/ES" : "hill climbing", fitted.terms.fitness,
+                fitted.terms.mean_distance);
+  out.scad.summary = summary;
+  out.document = [&] { return to_json_points(fitted, a.inputs); };
+  write_output(a.output, out);
+  if (a.report) print_report(fitted);
+  if (!a.quiet) std::fprintf(stderr, "csgfit: %s; %.2f s\n", summary, fitted.stats.seconds);
+}
+
+}  // namespace
+
+Command add_points_command(CLI::App& app) {
+  return make_command(app, "points", "fit a CSG tree with NURBS terminals to a scanned point cloud (seed 004)",
+                      add_points_options, run_points);
+}
+
+}  // namespace csgfit::cli

@@ -1,0 +1,202 @@
+// The point-cloud stages in order (seed 004): the cloud checked and read as a target, a NURBS
+// patch where the scan is a height field, first trees from the range detector, then the GP/ES
+// islands (or the voxel hill climbing, to compare on the same points and budget).
+#include "csgfit/pipeline/fit_points.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "csgfit/error.h"
+#include "csgfit/pipeline/fit_range.h"
+#include "csgfit/pipeline/fit_voxels.h"
+#include "csgfit/refine/nurbs_fit.h"
+#include "features/point_neighbours.h"
+
+namespace csgfit {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::size_t kMinPoints = 20;
+
+struct Cloud {
+  std::vector<Vec3> points, normals;
+};
+
+Cloud merged_cloud(const std::vector<RangeScan>& scans) {
+  Cloud c;
+  for (const RangeScan& s : scans) {
+    if (s.normals.size() != s.points.size())
+      throw std::invalid_argument("fit_points: every scan needs one normal per point");
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+      const Vec3& p = s.points[i];
+      const Vec3& n = s.normals[i];
+      if (!std::isfinite(p[0] + p[1] + p[2]))
+        throw InputError("'" + s.source + "': point " + std::to_string(i + 1) + " is not finite");
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (!std::isfinite(len)) continue;  // an outlier the reader could not give a normal
+      if (!(len > 1e-12))
+        throw InputError("'" + s.source + "': the normal of point " + std::to_string(i + 1) + " has zero length");
+      c.points.push_back(p);
+      c.normals.push_back({n[0] / len, n[1] / len, n[2] / len});
+    }
+  }
+  if (c.points.size() < kMinPoints)
+    throw InputError("too few points to fit a solid (" + std::to_string(c.points.size()) +
+                     ", at least " + std::to_string(kMinPoints) + " needed)");
+  return c;
+}
+
+// The spread of the cloud along its principal axes, largest first.
+Vec3 principal_spread(const std::vector<Vec3>& points) {
+  Vec3 mean{};
+  for (const Vec3& p : points)
+    for (int a = 0; a < 3; ++a) mean[a] += p[a] / static_cast<double>(points.size());
+  Mat3 cov{};
+  for (const Vec3& p : points)
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) cov[a][b] += (p[a] - mean[a]) * (p[b] - mean[b]);
+  Vec3 values;
+  Mat3 vectors;
+  symmetric_eigen3(cov, values, vectors);
+  return values;
+}
+
+ScanKind scan_kind(const Cloud& c, const PointsFitOptions& o) {
+  if (o.scan) return *o.scan;
+  // A scanner above the part sees nothing that faces down; a scan all around sees the bottom.
+  std::size_t down = 0;
+  for (const Vec3& n : c.normals) down += n[2] < -0.3 ? 1 : 0;
+  return static_cast<double>(down) < 0.01 * static_cast<double>(c.normals.size()) ? ScanKind::Top
+                                                                                   : ScanKind::All;
+}
+
+void check_solid(const Cloud& c, ScanKind scan, double floor) {
+  const Vec3 s = principal_spread(c.points);
+  if (!(s[1] > 1e-12 * s[0]) || !(s[0] > 0)) throw InputError("all points lie on a line: no solid to fit");
+  if (scan == ScanKind::All && !(s[2] > 1e-10 * s[0]))
+    throw InputError("all points lie on a plane: a scan all around a solid cannot be flat");
+  if (scan == ScanKind::Top) {
+    double top = -std::numeric_limits<double>::infinity();
+    for (const Vec3& p : c.points) top = std::max(top, p[2]);
+    if (!(top > floor))
+      throw InputError("every point of the scan from above lies at or below the floor (z = " +
+                       std::to_string(floor) + "): no solid stands on it");
+  }
+}
+
+// The seed-002 detector's tree on the same points, when it finds one: a first genome.
+std::vector<Node3D> detected_trees(const std::vector<RangeScan>& scans, const PointsFitOptions& o,
+                                   double seconds, const std::atomic<bool>* cancel) {
+  RangeFitOptions r;
+  r.time_limit = seconds;
+  r.seed = o.seed;
+  r.threads = o.threads;
+  r.primitives = PrimitiveSet3D{};
+  for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::TriangularPrism); ++i)
+    if (o.primitives.has(static_cast<PrimitiveKind3D>(i))) r.primitives.add(static_cast<PrimitiveKind3D>(i));
+  if (r.primitives.empty()) return {};
+  try {
+    return {fit_range(scans, r, nullptr, cancel).tree};
+  } catch (const InputError&) {
+    return {};  // nothing recognised: the islands start from random terminals
+  }
+}
+
+// The voxels the points enclose, for the hill climbing: columns from the floor up to the scanned
+// surface (top), or voxel centres behind the nearest point's tangent plane (all around).
+VoxelGrid enclosed_voxels(const PointTarget& t, int resolution) {
+  Bounds3 box = bounds_of(t.points);
+  if (t.scan == ScanKind::Top) box.lo[2] = std::min(box.lo[2], t.floor);
+  double side = 0;
+  for (int a = 0; a < 3; ++a) side = std::max(side, box.hi[a] - box.lo[a]);
+  const double vs = side / resolution, margin = 2 * vs;
+  int n[3];
+  for (int a = 0; a < 3; ++a) n[a] = static_cast<int>(std::ceil((box.hi[a] - box.lo[a] + 2 * margin) / vs));
+  VoxelGrid g(n[0], n[1], n[2], box.lo[0] - margin, box.lo[1] - margin, box.lo[2] - margin, vs);
+  const features_detail::PointNeighbours near(t.points);
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const Vec3 c{g.center_x(i), g.center_y(j), g.center_z(k)};
+        const std::size_t p = near.nearest(c, 1).front();
+        const Vec3& q = t.points[p];
+        const Vec3& m = t.normals[p];
+        bool inside;
+        if (t.scan == ScanKind::Top)
+          inside = c[2] >= t.floor && std::hypot(c[0] - q[0], c[1] - q[1]) < 3 * t.spacing + vs &&
+                   (c[0] - q[0]) * m[0] + (c[1] - q[1]) * m[1] + (c[2] - q[2]) * m[2] < 0;
+        else
+          inside = (c[0] - q[0]) * m[0] + (c[1] - q[1]) * m[1] + (c[2] - q[2]) * m[2] < 0;
+        if (inside) g.set(i, j, k);
+      }
+  return g;
+}
+
+Node3D hill_climb(const PointTarget& t, const PointsFitOptions& o, double seconds,
+                  const ProgressCallback& progress, const std::atomic<bool>* cancel, FitStats& stats) {
+  FitOptions3D v;
+  v.time_limit = seconds;
+  v.seed = o.seed;
+  v.threads = o.threads;
+  v.primitives = PrimitiveSet3D{};
+  for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::TriangularPrism); ++i)
+    if (o.primitives.has(static_cast<PrimitiveKind3D>(i))) v.primitives.add(static_cast<PrimitiveKind3D>(i));
+  if (v.primitives.empty()) v.primitives = PrimitiveSet3D::parse("box");
+  FitResult3D r = fit_voxels(enclosed_voxels(t, 64), v, progress, cancel);
+  stats = r.stats;
+  return r.tree;
+}
+
+}  // namespace
+
+PointsFitResult fit_points(const std::vector<RangeScan>& scans, const PointsFitOptions& o,
+                           const ProgressCallback& progress, const std::atomic<bool>* cancel) {
+  if (!(o.time_limit > 0) || o.islands == 0)
+    throw std::invalid_argument("fit_points: the time limit and the island count must be positive");
+  const auto t0 = Clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  Cloud cloud = merged_cloud(scans);
+  PointsFitResult out;
+  out.scan = scan_kind(cloud, o);
+  check_solid(cloud, out.scan, o.floor);
+  const PointTarget target = make_point_target(cloud.points, cloud.normals, out.scan, o.floor);
+  out.points = target.points.size();
+  out.diagonal = target.diagonal;
+
+  std::optional<Primitive3D> patch;
+  if (out.scan == ScanKind::Top && o.primitives.has(PrimitiveKind3D::Nurbs)) {
+    const PatchFit f = fit_height_patch(target.points, o.floor);
+    patch = f.terminal;
+    out.patch_rms = f.rms;
+  }
+  GpParams gp;
+  gp.islands = o.islands;
+  gp.seed = o.seed;
+  gp.threads = o.threads;
+  gp.primitives = o.primitives;
+  gp.max_generations = o.max_generations;
+  if (o.search == PointSearch::Hill) {
+    out.tree = hill_climb(target, o, std::max(0.1, o.time_limit - elapsed()), progress, cancel, out.stats);
+    out.first_tree = "voxels";
+  } else {
+    const std::vector<Node3D> first = detected_trees(scans, o, 0.15 * o.time_limit, cancel);
+    out.first_tree = first.empty() ? "random" : "detected";
+    gp.time_limit = std::max(0.1, o.time_limit - elapsed());
+    const GpResult r = run_gp(target, gp, first, patch ? &*patch : nullptr, progress, cancel);
+    out.tree = r.tree;
+    out.generations = r.generations;
+    out.stats.evaluations = r.evaluations;
+    out.stats.stop_reason = r.stop;
+  }
+  out.islands = o.search == PointSearch::Gp ? o.islands : 0;
+  out.terms = point_fitness(out.tree, target, gp.weights);
+  out.stats.primitives = out.tree.primitive_count();
+  out.stats.score = out.terms.fitness;
+  out.stats.seconds = elapsed();
+  return out;
+}
+
+}  // namespace csgfit
