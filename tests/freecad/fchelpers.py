@@ -248,6 +248,24 @@ def reopened(path):
         App.closeDocument(d.Name)
 
 
+def installed_home(tmp_path):
+    """The environment of a FreeCAD run whose HOME is a fresh folder under tmp_path with the
+    workbench installed there by scripts/install_workbench.sh: FreeCAD finds it where the
+    installer puts it, and the user's own FreeCAD folder is left alone."""
+    import subprocess
+
+    home = tmp_path / "home"
+    home.mkdir()
+    env = dict(os.environ, HOME=str(home), XDG_DATA_HOME=str(home / ".local" / "share"),
+               XDG_CONFIG_HOME=str(home / ".config"), CSGFIT_BUILD_DIR=BUILD,
+               # FreeCAD's start page embeds Chromium, which refuses to run as root otherwise.
+               QTWEBENGINE_DISABLE_SANDBOX="1")
+    env.pop("XDG_RUNTIME_DIR", None)
+    subprocess.run(["bash", os.path.join(REPO, "scripts", "install_workbench.sh")], env=env,
+                   check=True, capture_output=True, timeout=120)
+    return env
+
+
 def csgfit_or_skip():
     """The csgfit Python module from the build, or a pytest skip saying where it was looked for."""
     import pytest
