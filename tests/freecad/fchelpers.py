@@ -248,6 +248,22 @@ def reopened(path):
         App.closeDocument(d.Name)
 
 
+def document_fixture(name):
+    """A pytest fixture `doc`: a new FreeCAD document called `name`, closed after the test
+    (assign it at a test module's top level: doc = H.document_fixture("..."))."""
+    import pytest
+
+    @pytest.fixture
+    def doc():
+        import FreeCAD as App
+
+        d = App.newDocument(name)
+        yield d
+        App.closeDocument(d.Name)
+
+    return doc
+
+
 def installed_home(tmp_path):
     """The environment of a FreeCAD run whose HOME is a fresh folder under tmp_path with the
     workbench installed there by scripts/install_workbench.sh: FreeCAD finds it where the

@@ -167,11 +167,7 @@ print("CSGFIT_VOLUME=%r" % obj.Shape.Volume if obj.isValid() else "CSGFIT_FAILED
 """
 
 
-@pytest.fixture
-def doc():
-    d = App.newDocument("csgfit_nurbs_test")
-    yield d
-    App.closeDocument(d.Name)
+doc = H.document_fixture("csgfit_nurbs_test")
 
 
 def terminal(built):
