@@ -137,7 +137,8 @@ def export_scad(group, path):
     if getattr(group, "CsgFitDimension", 2) == 3:
         scad = getattr(group, "CsgFitScad", "")
         if not scad:
-            raise ValueError("this 3D result carries no OpenSCAD text (use csgfit mesh -o X.scad)")
+            raise ValueError("this 3D result carries no OpenSCAD text (write it with the csgfit "
+                             "command's -o X.scad: csgfit mesh, range or points)")
         tmp = path + ".tmp"
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(scad)

@@ -154,6 +154,8 @@ class MorphTree(PartTree):
         kind = d["type"]
         where = f"{where} ({kind})"
         makers = _MORPH_2D if self.t is not None else _MORPH_3D
+        if kind not in makers and kind in _MAKERS_3D:
+            raise BuildError(f"{where}: a morph does not interpolate {kind!r} leaves")
         if kind not in makers:
             raise BuildError(f"{where}: unknown primitive type {kind!r}")
         holder, obj = makers[kind](self, d, self.leaves_b[len(self.primitives)], where)

@@ -30,6 +30,9 @@ Placement is centre + R * (local offset of that corner or base), rotation = the 
   torus      Part::Torus      Radius1 = R, Radius2 = r
   prism      Part::Wedge      the 2D triangle's wedge over z in [-depth/2, depth/2]; X2max and
                               Z2min/Z2max are expressions on X2min and Zmin/Zmax
+  nurbs      Part::FeaturePython "csgfit NURBS terminal" (nurbs_feature.py): DegreeU/V, CountU/V,
+                              KnotsU/V, ControlPoints (local), SizeX/Y; the local origin is the
+                              centre, on the floor z = 0 under the patch
 """
 
 from __future__ import annotations
@@ -39,8 +42,11 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import FreeCAD as App
 
+from . import nurbs_feature
+
 PRIMITIVE_TYPES = ("Part::Box", "Part::Cylinder", "Part::Ellipse", "Part::Extrusion",
-                   "Part::Wedge", "Part::Sphere", "Part::Cone", "Part::Ellipsoid", "Part::Torus")
+                   "Part::Wedge", "Part::Sphere", "Part::Cone", "Part::Ellipsoid", "Part::Torus",
+                   nurbs_feature.TYPE_ID)
 BOOLEAN_TYPES = ("Part::MultiFuse", "Part::MultiCommon", "Part::Cut", "Part::Fuse",
                  "Part::Common")
 #: Every object type the builder creates (besides the group and its spreadsheet).
@@ -75,16 +81,20 @@ def _placement(cx: float, cy: float, angle: float, local: Tuple[float, float] = 
     return App.Placement(base, App.Rotation(App.Vector(0, 0, 1), angle))
 
 
-def _vector(d: Dict[str, Any], key: str, n: int, where: str,
+def _vector(d: Dict[str, Any], key: str, n: Optional[int], where: str,
             positive: bool = False) -> List[float]:
-    v = d.get(key)
-    if not isinstance(v, list) or len(v) != n:
-        raise BuildError(f"{where}: '{key}' must be an array of {n} numbers")
+    """d[key] as an array of n finite numbers (any number of them when n is None)."""
+    return _numbers(d.get(key), n, f"{where}: '{key}'", positive)
+
+
+def _numbers(v: Any, n: Optional[int], what: str, positive: bool = False) -> List[float]:
+    if not isinstance(v, list) or (n is not None and len(v) != n):
+        raise BuildError(f"{what} must be an array of {n or 'finite'} numbers")
     for x in v:
         if not isinstance(x, (int, float)) or isinstance(x, bool) or not math.isfinite(x):
-            raise BuildError(f"{where}: '{key}' must hold finite numbers")
-    if positive and min(v) <= 0:
-        raise BuildError(f"{where}: '{key}' must be > 0")
+            raise BuildError(f"{what} must hold finite numbers")
+    if positive and v and min(v) <= 0:
+        raise BuildError(f"{what} must be > 0")
     return [float(x) for x in v]
 
 
@@ -120,10 +130,12 @@ class PartTree:
         self.primitives: List[Tuple[Dict[str, Any], Any, Any]] = []
         self.counts: Dict[str, int] = {}
 
-    def _add(self, type_name: str, label: str):
+    def _add(self, type_name: str, label: str, make=None):
+        """A new object of the tree, labelled label001, label002, ...; make(doc, name) makes it
+        when it is not a plain addObject (a FeaturePython)."""
         n = self.counts.get(label, 0) + 1
         self.counts[label] = n
-        obj = self.doc.addObject(type_name, label)
+        obj = make(self.doc, label) if make else self.doc.addObject(type_name, label)
         obj.Label = f"{label}{n:03d}"
         self.created.append(obj)
         return obj
@@ -290,6 +302,44 @@ class PartTree:
         obj.Placement = _placement3d(d, where)
         return obj, obj
 
+    def _nurbs(self, d, where):
+        leaf = _nurbs_leaf(d, where)
+        try:
+            obj = self._add(nurbs_feature.TYPE_ID, "NURBS",
+                            lambda doc, name: nurbs_feature.make_nurbs(doc, name, leaf))
+        except nurbs_feature.NetError as e:
+            raise BuildError(f"{where}: {e}") from None
+        # The local origin is the centre on the floor: no offset, unlike the box's corner.
+        obj.Placement = _placement3d(d, where)
+        return obj, obj
+
+
+def _integers(d: Dict[str, Any], key: str, n: int, where: str) -> List[int]:
+    """d[key] as n positive integers (integral floats, as some writers emit, included)."""
+    v = _vector(d, key, n, where, True)
+    if any(x != int(x) for x in v):
+        raise BuildError(f"{where}: '{key}' must hold integers")
+    return [int(x) for x in v]
+
+
+def _nurbs_leaf(d: Dict[str, Any], where: str) -> Dict[str, Any]:
+    """The patch of a "nurbs" leaf with its shapes checked: degree and counts pairs of
+    integers, the knot vectors' numbers, nu x nv control points of three numbers each and the
+    rectangle's positive size (the size's third number, the top, is information only). Whether
+    the knots make a clamped B-spline is the feature's own check."""
+    nu, nv = _integers(d, "counts", 2, where)
+    size = _vector(d, "size", None, where)
+    if len(size) not in (2, 3) or min(size[:2]) <= 0:
+        raise BuildError(f"{where}: 'size' must be [sx, sy, top] with sx, sy > 0")
+    points = d.get("control_points")
+    if not isinstance(points, list) or len(points) != nu * nv:
+        raise BuildError(f"{where}: 'control_points' must be an array of {nu} x {nv} points")
+    return {"degree": _integers(d, "degree", 2, where), "counts": [nu, nv], "size": size[:2],
+            "knots_u": _vector(d, "knots_u", None, where),
+            "knots_v": _vector(d, "knots_v", None, where),
+            "control_points": [_numbers(p, 3, f"{where}: control point {k}")
+                               for k, p in enumerate(points)]}
+
 
 def _sizes(d: Dict[str, Any], where: str, *keys: str) -> List[float]:
     """The positive numbers d[key] for each key."""
@@ -316,4 +366,4 @@ _MAKERS_3D = {"box": PartTree._box, "cube": PartTree._box, "sphere": PartTree._s
               "cylinder": PartTree._cylinder, "cone": PartTree._cone, "frustum": PartTree._cone,
               "ellipsoid": PartTree._ellipsoid, "torus": PartTree._torus,
               "prism": PartTree._prism, "wedge": PartTree._prism,
-              "triangular_prism": PartTree._prism}
+              "triangular_prism": PartTree._prism, "nurbs": PartTree._nurbs}

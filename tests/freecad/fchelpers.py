@@ -248,6 +248,40 @@ def reopened(path):
         App.closeDocument(d.Name)
 
 
+def document_fixture(name):
+    """A pytest fixture `doc`: a new FreeCAD document called `name`, closed after the test
+    (assign it at a test module's top level: doc = H.document_fixture("..."))."""
+    import pytest
+
+    @pytest.fixture
+    def doc():
+        import FreeCAD as App
+
+        d = App.newDocument(name)
+        yield d
+        App.closeDocument(d.Name)
+
+    return doc
+
+
+def installed_home(tmp_path):
+    """The environment of a FreeCAD run whose HOME is a fresh folder under tmp_path with the
+    workbench installed there by scripts/install_workbench.sh: FreeCAD finds it where the
+    installer puts it, and the user's own FreeCAD folder is left alone."""
+    import subprocess
+
+    home = tmp_path / "home"
+    home.mkdir()
+    env = dict(os.environ, HOME=str(home), XDG_DATA_HOME=str(home / ".local" / "share"),
+               XDG_CONFIG_HOME=str(home / ".config"), CSGFIT_BUILD_DIR=BUILD,
+               # FreeCAD's start page embeds Chromium, which refuses to run as root otherwise.
+               QTWEBENGINE_DISABLE_SANDBOX="1")
+    env.pop("XDG_RUNTIME_DIR", None)
+    subprocess.run(["bash", os.path.join(REPO, "scripts", "install_workbench.sh")], env=env,
+                   check=True, capture_output=True, timeout=120)
+    return env
+
+
 def csgfit_or_skip():
     """The csgfit Python module from the build, or a pytest skip saying where it was looked for."""
     import pytest

@@ -31,15 +31,7 @@ def run_macro(tmp_path, scenario, **env_extra):
             pytest.skip(f"{tool} not installed")
     if not os.path.exists(os.path.join(H.BUILD, "python", "csgfit", "__init__.py")):
         pytest.skip(f"csgfit module not built in {H.BUILD}/python")
-    home = tmp_path / "home"
-    home.mkdir()
-    env = dict(os.environ, HOME=str(home), XDG_DATA_HOME=str(home / ".local" / "share"),
-               XDG_CONFIG_HOME=str(home / ".config"), CSGFIT_BUILD_DIR=H.BUILD,
-               # FreeCAD's start page embeds Chromium, which refuses to run as root otherwise.
-               QTWEBENGINE_DISABLE_SANDBOX="1")
-    env.pop("XDG_RUNTIME_DIR", None)
-    subprocess.run(["bash", os.path.join(H.REPO, "scripts", "install_workbench.sh")], env=env,
-                   check=True, capture_output=True, timeout=120)
+    env = H.installed_home(tmp_path)
     shots = (os.path.join(H.REPO, "docs", "img") if os.environ.get("CSGFIT_UPDATE_SCREENSHOTS")
              else str(tmp_path))
     os.makedirs(shots, exist_ok=True)
