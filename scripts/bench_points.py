@@ -406,7 +406,7 @@ def report(rows, agg, args):
     out.append(csg_table(picked(rows, "csg")))
     out.append("\nThe blade (the true B-spline surface against the JSON's nurbs leaf along z; "
                "STEP read by FreeCAD, its volume from a 0.005 mm tessellation; the .scad's top "
-               "seen from above at 0.1 mm pixels against the true surface):\n")
+               "seen from above at 0.2 mm pixels against the true surface):\n")
     out.append(blade_table(picked(rows, "blade")))
     table = compare_table(rows)
     if table:

@@ -83,11 +83,30 @@ class Patch:
             raise ValueError("nurbs: %d x %d control points do not fit %d + %d knots of degree "
                              "%s" % (nu, nv, len(self.knots_u), len(self.knots_v), self.degree))
 
-    def local(self, u, v, du=0, dv=0):
-        """Local points (or their du-th / dv-th partial derivatives, 0 or 1) at paired (u, v)."""
-        bu = (basis_derivative if du else basis)(self.knots_u, self.degree[0], u)
-        bv = (basis_derivative if dv else basis)(self.knots_v, self.degree[1], v)
-        return np.einsum("si,ijc,sj->sc", bu, self.net, bv)
+    def _along_u(self, bu):
+        """The net summed along u with the weights bu: (samples, nv, 3)."""
+        nu, nv = self.net.shape[:2]
+        # One matrix product, then the sum along v: einsum over three operands is ten times
+        # slower on the benchmark's hundred thousand pixels.
+        return (bu @ self.net.reshape(nu, nv * 3)).reshape(-1, nv, 3)
+
+    def local(self, u, v):
+        """Local points at paired (u, v)."""
+        bu = basis(self.knots_u, self.degree[0], u)
+        bv = basis(self.knots_v, self.degree[1], v)
+        return np.sum(self._along_u(bu) * bv[:, :, None], axis=1)
+
+    def frame(self, u, v):
+        """Model points at paired (u, v) and their partial derivatives along u and v, the
+        bases computed once for the three."""
+        bu, dbu = (f(self.knots_u, self.degree[0], u) for f in (basis, basis_derivative))
+        bv, dbv = (f(self.knots_v, self.degree[1], v) for f in (basis, basis_derivative))
+        su, dsu = self._along_u(bu), self._along_u(dbu)
+        point = np.sum(su * bv[:, :, None], axis=1)
+        d_u = np.sum(dsu * bv[:, :, None], axis=1)
+        d_v = np.sum(su * dbv[:, :, None], axis=1)
+        rt = self.rotation.T
+        return self.center + point @ rt, d_u @ rt, d_v @ rt
 
     def model(self, u, v):
         """Model points at paired (u, v)."""
@@ -211,15 +230,16 @@ def heights(patch, x, y, iterations=60):
     v = np.clip((start[:, 1] - lo[1]) / span[1], 0, 1)
     tol = 1e-10 * float(np.max(span))
     for _ in range(iterations):
-        f = patch.model(u, v)[:, :2] - np.stack([x, y], axis=1)
+        p, ju, jv = patch.frame(u, v)
+        f = p[:, :2] - np.stack([x, y], axis=1)
         if np.all(np.abs(f) < tol):
             break
-        ju, jv = (patch.local(u, v, 1, 0) @ rot.T)[:, :2], (patch.local(u, v, 0, 1) @ rot.T)[:, :2]
         det = ju[:, 0] * jv[:, 1] - ju[:, 1] * jv[:, 0]
         det = np.where(np.abs(det) > 1e-300, det, 1e-300)
         u = np.clip(u - (f[:, 0] * jv[:, 1] - f[:, 1] * jv[:, 0]) / det, 0, 1)
         v = np.clip(v - (ju[:, 0] * f[:, 1] - ju[:, 1] * f[:, 0]) / det, 0, 1)
-    p = patch.model(u, v)
+    else:
+        p = patch.model(u, v)
     gap = np.hypot(p[:, 0] - x, p[:, 1] - y)
     return p[:, 2], gap < 1e-6 * float(np.max(span)) + tol, gap
 
@@ -307,7 +327,7 @@ def polyhedron_scad(patch, name="nurbs_1", cells=(240, 80)):
                 json.dumps(np.round(points, 9).tolist()), json.dumps(faces)))
 
 
-def top_deviation(tris, gt, pixel=0.1, inset=2):
+def top_deviation(tris, gt, pixel=0.2, inset=2):
     """The rendered solid (an STL's triangles) seen from straight above by range_judge's
     orthographic z-buffer over the true rectangle, against the true surface: mean and max
     |z| difference over the pixels `inset` or more pixels inside the rectangle's edges."""

@@ -214,3 +214,52 @@ def test_step_of_the_ground_truth_is_one_valid_solid_with_a_bspline_face(tmp_pat
         assert not pj.step_check(str(tmp_path / "bad.step"))["passed"]
     except RuntimeError:
         pass  # FreeCAD refused to read it at all: as good a "no"
+
+
+STAND_IN_CLI = r'''#!/usr/bin/python3
+# A stand-in for `csgfit points` (the contract's command line): the ground truth as its .scad,
+# .json and .step, a summary line on stderr.
+import json, os, shutil, sys
+sys.path.insert(0, %r)
+import points_judge as pj
+args = sys.argv[1:]
+assert args[0] == "points" and "--time" in args and "--seed" in args, args
+cloud = args[1]
+outs = {os.path.splitext(args[i + 1])[1]: args[i + 1] for i, a in enumerate(args) if a == "-o"}
+bench = os.path.dirname(cloud)
+name = os.path.basename(cloud).rsplit(".", 1)[0]
+gt = name.rsplit("_", 1)[0]
+if gt == "blade":
+    leaf = pj.gt_as_leaf(json.load(open(os.path.join(bench, "blade.gt.json"))), "exact")
+    json.dump(pj.result_document(leaf, cloud), open(outs[".json"], "w"))
+    open(outs[".scad"], "w").write(pj.polyhedron_scad(pj.patch_from_leaf(leaf), cells=(60, 20)))
+    pj.write_step(outs[".json"], outs[".step"])
+else:
+    shutil.copyfile(os.path.join(bench, gt + ".gt.scad"), outs[".scad"])
+print("csgfit: 1 primitives (stand-in); 0.01 s", file=sys.stderr)
+'''
+
+
+@needs_openscad
+@needs_freecad
+def test_bench_points_runs_end_to_end_with_a_stand_in_cli(tmp_path):
+    """The driver's real path (command line, fit, render, .csg count, deviation, STEP, the
+    comparison's runs, JSON) on blade_top with a stand-in for the solver."""
+    cli = tmp_path / "csgfit"
+    cli.write_text(STAND_IN_CLI % os.path.join(REPO, "scripts"))
+    cli.chmod(0o755)
+    out = tmp_path / "out"
+    proc = subprocess.run(
+        [sys.executable, os.path.join(REPO, "scripts", "bench_points.py"), "--cli", str(cli),
+         "--models", "blade_top", "--formats", "xyz", "--out", str(out), "--time", "1"],
+        capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads((out / "results.json").read_text())
+    assert [r["variant"] for r in doc["runs"]] == ["default", "islands1", "hill"]
+    assert "--islands 1" in doc["runs"][1]["command"]
+    assert "--search hill" in doc["runs"][2]["command"]
+    for run in doc["runs"]:
+        assert run["status"] == "ok" and run["step_ok"] is True, run
+        assert run["dev_max"] < 1e-9 and run["scad_top_dev_max"] <= run["scad_header_dev"]
+    assert all(a["ok"] in (True, None) for a in doc["acceptance"])
+    assert "| blade_top_xyz |" in proc.stdout and "--search hill" in proc.stdout
