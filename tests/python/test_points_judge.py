@@ -20,6 +20,7 @@ BENCH = os.path.join(os.path.dirname(REPO), "shared", "benchmarks", "points")
 sys.path.insert(0, os.path.join(REPO, "scripts"))
 import points_judge as pj  # noqa: E402
 import range_judge as rj  # noqa: E402
+import stand_in  # noqa: E402  (tests/python/stand_in.py)
 
 needs_data = pytest.mark.skipif(not os.path.isdir(BENCH), reason="needs %s" % BENCH)
 needs_openscad = pytest.mark.skipif(
@@ -245,16 +246,10 @@ print("csgfit: 1 primitives (stand-in); 0.01 s", file=sys.stderr)
 def test_bench_points_runs_end_to_end_with_a_stand_in_cli(tmp_path):
     """The driver's real path (command line, fit, render, .csg count, deviation, STEP, the
     comparison's runs, JSON) on blade_top with a stand-in for the solver."""
-    cli = tmp_path / "csgfit"
-    cli.write_text(STAND_IN_CLI % os.path.join(REPO, "scripts"))
-    cli.chmod(0o755)
-    out = tmp_path / "out"
-    proc = subprocess.run(
-        [sys.executable, os.path.join(REPO, "scripts", "bench_points.py"), "--cli", str(cli),
-         "--models", "blade_top", "--formats", "xyz", "--out", str(out), "--time", "1"],
-        capture_output=True, text=True, timeout=600)
+    proc, doc = stand_in.run_driver(tmp_path, STAND_IN_CLI % os.path.join(REPO, "scripts"),
+                                    "bench_points.py", ["--models", "blade_top", "--formats",
+                                                        "xyz", "--time", "1"])
     assert proc.returncode == 0, proc.stderr
-    doc = json.loads((out / "results.json").read_text())
     assert [r["variant"] for r in doc["runs"]] == ["default", "islands1", "hill"]
     assert "--islands 1" in doc["runs"][1]["command"]
     assert "--search hill" in doc["runs"][2]["command"]
