@@ -18,6 +18,7 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 BENCH = os.path.join(os.path.dirname(REPO), "shared", "benchmarks", "range")
 sys.path.insert(0, os.path.join(REPO, "scripts"))
 import range_judge as rj  # noqa: E402
+import stand_in  # noqa: E402  (tests/python/stand_in.py)
 
 needs_data = pytest.mark.skipif(
     shutil.which("openscad") is None or not os.path.isdir(BENCH),
@@ -204,16 +205,10 @@ print("csgfit: 5 primitives, 0.01 s (stand-in)", file=sys.stderr)
 @needs_data
 def test_bench_range_runs_end_to_end_with_a_stand_in_cli(tmp_path):
     """The driver's whole path (fit, render, .csg count, scores, object_b, JSON) on object_b."""
-    cli = tmp_path / "csgfit"
-    cli.write_text(STAND_IN_CLI % json.dumps(ideal_object_b()))
-    cli.chmod(0o755)
-    out = tmp_path / "out"
-    proc = subprocess.run(
-        [sys.executable, os.path.join(REPO, "scripts", "bench_range.py"), "--cli", str(cli),
-         "--models", "object_b", "--sensors", "ortho", "--out", str(out), "--time", "1"],
-        capture_output=True, text=True, timeout=600)
+    proc, doc = stand_in.run_driver(tmp_path, STAND_IN_CLI % json.dumps(ideal_object_b()),
+                                    "bench_range.py", ["--models", "object_b", "--sensors",
+                                                       "ortho", "--time", "1"])
     assert proc.returncode == 0, proc.stderr
-    doc = json.loads((out / "results.json").read_text())
     run, two = doc["runs"]
     assert run["sensor"] == "ortho" and two["sensor"] == "two_view"
     assert run["silhouette_iou"] > 0.995 and two["volume_iou"] == 1.0
