@@ -20,7 +20,7 @@ namespace {
 
 struct PointsArgs {
   std::vector<std::string> inputs;
-  std::string output;
+  std::vector<std::string> outputs;
   double time_limit = 30, floor = 0;
   std::uint64_t seed = 1;
   int threads = 0, fn = 96;
@@ -34,7 +34,9 @@ void add_points_options(CLI::App& cmd, PointsArgs& a) {
                  "points (.xyz: x y z [nx ny nz] a line; .ply, ASCII or binary, with or without "
                  "normals); several scans of one part are merged")
       ->required();
-  cmd.add_option("-o,--output", a.output, "output: .scad, .json, .step or .FCStd")->required();
+  cmd.add_option("-o,--output", a.outputs,
+                 "output: .scad, .json, .step or .FCStd; repeat -o for several from one fit")
+      ->required();
   cmd.add_option("--time", a.time_limit, "time budget in seconds")->check(obeys(option_rules::time));
   cmd.add_option("--seed", a.seed, "random seed: same seed, same tree (when the search ends by generations)")
       ->check(seed_check());
@@ -87,14 +89,16 @@ void print_report(const PointsFitResult& r) {
 }
 
 void run_points(const PointsArgs& a) {
-  check_output(a.output);
+  for (const std::string& out : a.outputs) check_output(out);
   const PointsFitOptions options = fit_options(a);
   for (const std::string& in : a.inputs) {
     const std::string ext = fs::path(in).extension().string();
     if (ext != ".xyz" && ext != ".ply" && ext != ".XYZ" && ext != ".PLY")
       throw InputError("'" + in + "': csgfit points reads .xyz or .ply (range images: csgfit range)");
   }
-  const std::vector<RangeScan> scans = read_ranges(a.inputs);
+  RangeReadOptions read;
+  read.strict_points = true;
+  const std::vector<RangeScan> scans = read_ranges(a.inputs, read);
   ProgressBar bar(!a.quiet);
   const PointsFitResult fitted = fit_points(scans, options, bar.callback());
   bar.finish();
@@ -109,7 +113,7 @@ void run_points(const PointsArgs& a) {
                 fitted.terms.mean_distance);
   out.scad.summary = summary;
   out.document = [&] { return to_json_points(fitted, a.inputs); };
-  write_output(a.output, out);
+  for (const std::string& path : a.outputs) write_output(path, out);
   if (a.report) print_report(fitted);
   if (!a.quiet) std::fprintf(stderr, "csgfit: %s; %.2f s\n", summary, fitted.stats.seconds);
 }

@@ -119,6 +119,7 @@ SIZE_FIELDS_3D = {
     "ellipsoid": ("radii",),
     "torus": ("R", "r"),
     "prism": ("w", "h", "depth", "apex"),
+    "nurbs": ("size", "degree", "counts", "knots_u", "knots_v", "control_points"),
 }
 
 
@@ -131,7 +132,9 @@ class Primitive3D(_Leaf):
     Sizes (None where the type has none, docs/JSON_SCHEMA.md "3D documents"): box `size`
     (x, y, z); sphere `r`; cylinder `r`, `h` (axis along local z); cone `r1` (bottom, local
     z = -h/2), `r2`, `h`; ellipsoid `radii` (x, y, z); torus `R` (major), `r` (minor); prism
-    `w`, `h`, `apex` (its triangle, as in 2D) and `depth` along local z.
+    `w`, `h`, `apex` (its triangle, as in 2D) and `depth` along local z; nurbs (seed 004's
+    NURBS terminal) `size` (sx, sy, top), `degree`, `counts`, `knots_u`, `knots_v` and
+    `control_points` (local, u index fastest; the solid lies between local z = 0 and the patch).
     """
 
     type: str
@@ -148,6 +151,11 @@ class Primitive3D(_Leaf):
     w: Optional[float] = None
     depth: Optional[float] = None
     apex: Optional[float] = None
+    degree: Optional[Tuple[int, int]] = None
+    counts: Optional[Tuple[int, int]] = None
+    knots_u: Optional[Tuple[float, ...]] = None
+    knots_v: Optional[Tuple[float, ...]] = None
+    control_points: Optional[Tuple[Vec3, ...]] = None
 
     @classmethod
     def from_dict(cls, d: dict) -> "Primitive3D":

@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "csgfit/error.h"
 #include "csgfit/pipeline/fit_range.h"
 #include "csgfit/pipeline/fit_voxels.h"
 #include "csgfit/refine/nurbs_fit.h"
-#include "features/point_neighbours.h"
 
 namespace csgfit {
 
@@ -105,8 +105,9 @@ std::vector<Node3D> detected_trees(const std::vector<RangeScan>& scans, const Po
   }
 }
 
-// The voxels the points enclose, for the hill climbing: columns from the floor up to the scanned
-// surface (top), or voxel centres behind the nearest point's tangent plane (all around).
+// The voxels the points enclose, for the hill climbing, by parity along z: in each column the
+// points facing down are where the part begins and those facing up where it ends (walls say
+// nothing along z); a scan from above has only ends, so its columns start at the floor.
 VoxelGrid enclosed_voxels(const PointTarget& t, int resolution) {
   Bounds3 box = bounds_of(t.points);
   if (t.scan == ScanKind::Top) box.lo[2] = std::min(box.lo[2], t.floor);
@@ -116,22 +117,40 @@ VoxelGrid enclosed_voxels(const PointTarget& t, int resolution) {
   int n[3];
   for (int a = 0; a < 3; ++a) n[a] = static_cast<int>(std::ceil((box.hi[a] - box.lo[a] + 2 * margin) / vs));
   VoxelGrid g(n[0], n[1], n[2], box.lo[0] - margin, box.lo[1] - margin, box.lo[2] - margin, vs);
-  const features_detail::PointNeighbours near(t.points);
-  for (int k = 0; k < n[2]; ++k)
-    for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i) {
-        const Vec3 c{g.center_x(i), g.center_y(j), g.center_z(k)};
-        const std::size_t p = near.nearest(c, 1).front();
-        const Vec3& q = t.points[p];
-        const Vec3& m = t.normals[p];
-        bool inside;
-        if (t.scan == ScanKind::Top)
-          inside = c[2] >= t.floor && std::hypot(c[0] - q[0], c[1] - q[1]) < 3 * t.spacing + vs &&
-                   (c[0] - q[0]) * m[0] + (c[1] - q[1]) * m[1] + (c[2] - q[2]) * m[2] < 0;
-        else
-          inside = (c[0] - q[0]) * m[0] + (c[1] - q[1]) * m[1] + (c[2] - q[2]) * m[2] < 0;
-        if (inside) g.set(i, j, k);
+  // Each point stands for a disc of the scan's spacing: it reaches the columns within it.
+  const double reach = std::max(t.spacing, 0.5 * vs);
+  std::vector<std::vector<std::pair<double, int>>> columns(static_cast<std::size_t>(n[0] * n[1]));
+  for (std::size_t p = 0; p < t.points.size(); ++p) {
+    const Vec3& q = t.points[p];
+    const double nz = t.normals[p][2];
+    if (std::fabs(nz) < 0.3) continue;
+    const int i0 = std::max(0, static_cast<int>(std::floor((q[0] - reach - g.origin_x()) / vs)));
+    const int i1 = std::min(n[0] - 1, static_cast<int>(std::floor((q[0] + reach - g.origin_x()) / vs)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((q[1] - reach - g.origin_y()) / vs)));
+    const int j1 = std::min(n[1] - 1, static_cast<int>(std::floor((q[1] + reach - g.origin_y()) / vs)));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        if (std::hypot(g.center_x(i) - q[0], g.center_y(j) - q[1]) <= reach)
+          columns[static_cast<std::size_t>(i + n[0] * j)].push_back({q[2], nz > 0 ? 1 : -1});
+  }
+  for (int j = 0; j < n[1]; ++j)
+    for (int i = 0; i < n[0]; ++i) {
+      auto& c = columns[static_cast<std::size_t>(i + n[0] * j)];
+      if (c.empty()) continue;
+      std::sort(c.begin(), c.end());
+      double start = t.scan == ScanKind::Top ? t.floor : std::numeric_limits<double>::quiet_NaN();
+      double end = start;
+      for (const auto& [z, up] : c) {
+        if (up < 0 && t.scan == ScanKind::All) {
+          if (!std::isnan(end) && z > end + 2 * reach) start = z;  // a new solid above a gap
+          else if (std::isnan(start)) start = z;
+        } else if (!std::isnan(start)) {
+          end = z;
+          for (int k = 0; k < n[2]; ++k)
+            if (g.center_z(k) >= start && g.center_z(k) <= end) g.set(i, j, k);
+        }
       }
+    }
   return g;
 }
 

@@ -99,6 +99,13 @@ double top_of(const PointTarget& t) {
   return z;
 }
 
+// A turn about the new terminal's axis: drawn parts are turned by multiples of 15 degrees far
+// more often than by anything else.
+double spin_degrees(rnd::Rng& rng) {
+  if (rnd::uniform(rng, 0, 1) < 0.7) return 15.0 * (static_cast<double>(rnd::pick(rng, 13)) - 6);
+  return rnd::uniform(rng, -90, 90);
+}
+
 Primitive3D new_terminal(const Context& c, const Worst& w, rnd::Rng& rng) {
   const PointTarget& t = *c.target;
   const std::vector<PrimitiveKind3D> kinds = allowed_kinds(c.primitives);
@@ -109,8 +116,7 @@ Primitive3D new_terminal(const Context& c, const Worst& w, rnd::Rng& rng) {
   const Vec3& p = t.points[w.index];
   const bool add = w.error > 0;
   if (t.scan == ScanKind::Top) {
-    const Quaternion spin = rnd::uniform(rng, 0, 1) < 0.5 ? Quaternion{}
-                                                         : Quaternion::from_axis_angle(0, 0, 1, rnd::uniform(rng, -90, 90));
+    const Quaternion spin = Quaternion::from_axis_angle(0, 0, 1, spin_degrees(rng));
     if (kind == PrimitiveKind3D::Sphere || kind == PrimitiveKind3D::Ellipsoid) {
       he[2] = he[0];
       return make_terminal(kind, {p[0], p[1], add ? p[2] - he[0] : p[2] + he[0]}, he, spin);
@@ -123,7 +129,7 @@ Primitive3D new_terminal(const Context& c, const Worst& w, rnd::Rng& rng) {
   const Vec3& n = t.normals[w.index];
   const double s = add ? -he[2] : he[2];  // the centre behind the surface (add) or before it (cut)
   const Vec3 centre{p[0] + s * n[0], p[1] + s * n[1], p[2] + s * n[2]};
-  const Quaternion q = Quaternion::from_axis_angle(n[0], n[1], n[2], rnd::uniform(rng, -45, 45)) * z_to(n);
+  const Quaternion q = Quaternion::from_axis_angle(n[0], n[1], n[2], spin_degrees(rng)) * z_to(n);
   return make_terminal(kind, centre, he, q);
 }
 
@@ -230,6 +236,18 @@ GpIndividual exchange_subtrees(const GpIndividual& a, const GpIndividual& b, rnd
   return child;
 }
 
+// The local axis of p that stands upright (a box may stand on any face; the round kinds and
+// the prism only along their local z), or -1.
+int upright_axis(const Primitive3D& p) {
+  const Mat3 m = p.rotation.matrix();
+  const int last = p.kind == PrimitiveKind3D::Box ? 2 : 0;
+  for (int a = 0; a <= last; ++a) {
+    const int axis = p.kind == PrimitiveKind3D::Box ? a : 2;
+    if (std::fabs(m[2][axis]) > 0.9999) return axis;
+  }
+  return -1;
+}
+
 void ground(Node3D& tree, const PointTarget& t) {
   if (t.scan != ScanKind::Top) return;
   const double sky = top_of(t) + 0.05 * t.diagonal;
@@ -237,13 +255,13 @@ void ground(Node3D& tree, const PointTarget& t) {
   signed_leaves(tree, false, leaves);
   for (auto& [p, negative] : leaves) {
     if (!is_extruded(p->kind)) continue;
-    const Mat3 m = p->rotation.matrix();
-    if (std::fabs(m[2][2]) < 0.9999) continue;  // not standing upright
-    double lo = p->cz - p->dims[2] / 2, hi = p->cz + p->dims[2] / 2;
+    const int a = upright_axis(*p);
+    if (a < 0) continue;
+    double lo = p->cz - p->dims[a] / 2, hi = p->cz + p->dims[a] / 2;
     if (negative) hi = std::max(hi, sky);
     else lo = t.floor;
     if (!(hi > lo)) continue;
-    p->dims[2] = hi - lo;
+    p->dims[a] = hi - lo;
     p->cz = 0.5 * (hi + lo);
     p->normalize();
   }

@@ -63,13 +63,15 @@ void select_best(std::vector<GpIndividual>& parents, std::vector<GpIndividual> c
   parents = std::move(children);
 }
 
-void generation(Island& island, const gp::Context& c, const GpParams& params) {
+// A generation ends early at the deadline: large trees make one slow, and the budget is the
+// user's (a search stopped by the clock is not reproducible anyway).
+void generation(Island& island, const gp::Context& c, const GpParams& params, Clock::time_point deadline) {
   std::vector<GpIndividual> children;
-  for (std::size_t k = 0; k < params.lambda; ++k) {
+  for (std::size_t k = 0; k < params.lambda && Clock::now() < deadline; ++k) {
     children.push_back(offspring(island, c, island.rng));
     evaluate(children.back(), c, params.weights, island);
   }
-  select_best(island.parents, std::move(children), params.selection, params.mu);
+  if (!children.empty()) select_best(island.parents, std::move(children), params.selection, params.mu);
 }
 
 // Sparse migration (Sec. 3): each island's worst is replaced by a recombination of its best
@@ -90,8 +92,10 @@ void migrate(std::vector<Island>& islands, std::vector<gp::Context>& contexts, c
 }
 
 void start_island(Island& island, const gp::Context& c, const GpParams& params,
-                  const std::vector<Node3D>& first) {
-  for (const Node3D& t : first) {
+                  const std::vector<Node3D>& first, bool from_first) {
+  // Every other island starts from random terminals only: a detected tree that is nearly
+  // right would otherwise take over every population before the others found their parts.
+  for (const Node3D& t : from_first ? first : std::vector<Node3D>{}) {
     GpIndividual g{t, {}, 0};
     if (gp::tidy(g, c)) island.parents.push_back(std::move(g));
   }
@@ -104,6 +108,24 @@ void start_island(Island& island, const gp::Context& c, const GpParams& params,
   for (GpIndividual& g : island.parents) gp::tidy(g, c);
   for (GpIndividual& g : island.parents) evaluate(g, c, params.weights, island);
   select_best(island.parents, {}, es::Selection::Plus, params.mu);
+}
+
+// The last step on the winner, judged on every point: each terminal whose removal does not
+// lower the fitness goes (the seed's size term is weak against a patch that fits a few points
+// better), until none does.
+void prune(Node3D& tree, FitnessTerms& terms, const PointTarget& target, const FitnessWeights& w) {
+  for (bool changed = true; changed && tree.primitive_count() > 1;) {
+    changed = false;
+    for (std::size_t i = 1; i < tree.node_count(); ++i) {
+      Node3D trial = tree;
+      if (!erase_subtree(trial, i) || !simplify(trial) || trial.primitive_count() == 0) continue;
+      const FitnessTerms f = point_fitness(trial, target, w);
+      if (f.fitness >= terms.fitness) {
+        tree = std::move(trial), terms = f, changed = true;
+        break;
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -121,10 +143,12 @@ GpResult run_gp(const PointTarget& target, const GpParams& params, const std::ve
     islands[i].rng.seed(rnd::splitmix(params.seed * 1000003ULL + i));
     islands[i].subset = draw_subset(target.points.size(), params.subset, islands[i].rng);
     contexts[i] = gp::Context{&target, &islands[i].subset, params.primitives, patch, 0.02};
-    start_island(islands[i], contexts[i], params, first);
+    start_island(islands[i], contexts[i], params, first, i % 2 == 0);
   }
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t workers = std::min<std::size_t>(params.threads > 0 ? params.threads : hw, islands.size());
+  const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>(params.time_limit));
   GpResult out;
   out.stop = "generations";
   while (out.generations < params.max_generations) {
@@ -134,9 +158,9 @@ GpResult run_gp(const PointTarget& target, const GpParams& params, const std::ve
     std::vector<std::thread> pool;
     for (std::size_t w = 1; w < workers; ++w)
       pool.emplace_back([&, w] {
-        for (std::size_t i = w; i < islands.size(); i += workers) generation(islands[i], contexts[i], params);
+        for (std::size_t i = w; i < islands.size(); i += workers) generation(islands[i], contexts[i], params, deadline);
       });
-    for (std::size_t i = 0; i < islands.size(); i += workers) generation(islands[i], contexts[i], params);
+    for (std::size_t i = 0; i < islands.size(); i += workers) generation(islands[i], contexts[i], params, deadline);
     for (std::thread& t : pool) t.join();
     ++out.generations;
     if (params.migration_interval && out.generations % params.migration_interval == 0)
@@ -158,6 +182,7 @@ GpResult run_gp(const PointTarget& target, const GpParams& params, const std::ve
     const FitnessTerms f = point_fitness(island.parents.front().tree, target, params.weights);
     if (f.fitness > best) best = f.fitness, out.tree = island.parents.front().tree, out.terms = f;
   }
+  prune(out.tree, out.terms, target, params.weights);
   out.seconds = seconds();
   return out;
 }

@@ -169,7 +169,16 @@ PointTarget make_point_target(std::vector<Vec3> points, std::vector<Vec3> normal
   const features_detail::PointNeighbours grid(points);
   t.spacing = grid.mean_spacing();
   t.curvature = curvature_types(points, normals, t.diagonal);
-  if (scan == ScanKind::Top) t.floor_samples = grid.empty_floor(box, 3 * t.spacing, floor);
+  if (scan == ScanKind::Top) {
+    // The scanner saw the table around the part too: without samples there, a tree could
+    // spill past the part's outline for free.
+    Bounds3 around = box;
+    for (int a = 0; a < 2; ++a) {
+      const double m = 0.15 * (box.hi[a] - box.lo[a]) + 3 * t.spacing;
+      around.lo[a] -= m, around.hi[a] += m;
+    }
+    t.floor_samples = grid.empty_floor(around, 3 * t.spacing, floor);
+  }
   t.points = std::move(points);
   t.normals = std::move(normals);
   return t;

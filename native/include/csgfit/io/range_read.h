@@ -22,6 +22,9 @@ struct RangeReadOptions {
   RangeIntrinsics intrinsics;
   long long max_pixels = 4096LL * 4096LL;  ///< larger images are refused (InputError names it)
   long long max_points = 20'000'000;       ///< larger clouds are refused
+  /// Unorganised scan files (csgfit points): a NaN or infinite coordinate, or a normal of zero
+  /// length, is an error naming the point rather than a missing return or an outlier.
+  bool strict_points = false;
 };
 
 /// Reads one view or cloud by its extension (.png, .npy, .ply, .xyz), drops NaN / no-return

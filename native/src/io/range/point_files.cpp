@@ -21,8 +21,14 @@ bool finite3(const Vec3& v) {
 }
 
 // Adds a point (and its normal when the file has normals), counting a non-finite one as no
-// return. A zero or NaN normal stays for complete_normals to drop as an outlier.
-void add_point(RangeScan& scan, const Vec3& p, const Vec3* n) {
+// return. A zero or NaN normal stays for complete_normals to drop as an outlier. Under
+// `strict` (a scan file, not a sensor's frame) both are errors naming the point (1-based).
+void add_point(RangeScan& scan, const Vec3& p, const Vec3* n, bool strict, unsigned long long index) {
+  if (strict && !finite3(p))
+    fail(quoted(scan.source) + ": point " + std::to_string(index + 1) + " has a NaN or infinite coordinate");
+  if (strict && n && (!finite3(*n) || !((*n)[0] * (*n)[0] + (*n)[1] * (*n)[1] + (*n)[2] * (*n)[2] > 1e-24)))
+    fail(quoted(scan.source) + ": the normal of point " + std::to_string(index + 1) +
+         " has zero length or is not finite");
   if (!finite3(p)) {
     ++scan.dropped_no_return;
     return;
@@ -86,7 +92,8 @@ void ply_grid_size(const PlyHeader& h, unsigned long long vertices, int* width, 
 
 class PlyPointRows : public PlyRowVisitor {
  public:
-  PlyPointRows(const PlyPointLayout& layout, RangeScan& scan) : layout_(layout), scan_(scan) {}
+  PlyPointRows(const PlyPointLayout& layout, RangeScan& scan, bool strict)
+      : layout_(layout), scan_(scan), strict_(strict) {}
   bool wanted(const PlyElement& e) const override { return &e == layout_.vertex; }
   bool keeps_list(const PlyElement&, std::size_t) const override { return false; }
   void row(const PlyElement&, unsigned long long r, const std::vector<double>& values,
@@ -97,13 +104,14 @@ class PlyPointRows : public PlyRowVisitor {
                                                 values[layout_.normal[2]]}
                                          : Vec3{};
     const std::size_t before = scan_.points.size();
-    add_point(scan_, p, layout_.has_normals() ? &n : nullptr);
+    add_point(scan_, p, layout_.has_normals() ? &n : nullptr, strict_, r);
     if (scan_.organised() && scan_.points.size() > before) scan_.pixel.push_back(static_cast<int>(r));
   }
 
  private:
   const PlyPointLayout& layout_;
   RangeScan& scan_;
+  bool strict_;
 };
 
 }  // namespace
@@ -139,7 +147,7 @@ RangeScan read_xyz_points(const std::string& path, const std::string& d,
       too_many_points(path, count, options.max_points);
     }
     const Vec3 normal{v[3], v[4], v[5]};
-    add_point(scan, {v[0], v[1], v[2]}, n == 6 ? &normal : nullptr);
+    add_point(scan, {v[0], v[1], v[2]}, n == 6 ? &normal : nullptr, options.strict_points, count - 1);
   }
   check_has_returns(scan);
   return scan;
@@ -159,7 +167,7 @@ RangeScan read_ply_points(const std::string& path, const std::string& d,
   // Each point takes at least 3 bytes of the body: a hostile count reserves no more than that.
   const std::size_t body = d.size() - std::min(h.body, d.size());
   scan.points.reserve(std::min<std::size_t>(count, body / 3));
-  PlyPointRows rows(layout, scan);
+  PlyPointRows rows(layout, scan, options.strict_points && !scan.organised());
   read_ply_rows(path, d, h, rows);
   check_has_returns(scan);
   return scan;

@@ -1,0 +1,222 @@
+// Seed 004 on point clouds: the fitness on hand-made configurations, the curvature types, the
+// GP operators keeping trees valid, the same seed giving the same tree, and bad clouds refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "csgfit/error.h"
+#include "csgfit/pipeline/fit_points.h"
+#include "csgfit/refine/nurbs_fit.h"
+#include "search/gp_operators.h"
+
+using namespace csgfit;
+
+namespace {
+
+// Points on the surface of an axis-aligned box, n per unit of area roughly, normals outward.
+void box_surface(const Vec3& lo, const Vec3& hi, double step, std::vector<Vec3>& pts,
+                 std::vector<Vec3>& nrm, bool with_bottom = true) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      if (axis == 2 && side == 0 && !with_bottom) continue;
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      for (double u = lo[a] + step / 2; u < hi[a]; u += step)
+        for (double v = lo[b] + step / 2; v < hi[b]; v += step) {
+          Vec3 p{}, n{};
+          p[axis] = side ? hi[axis] : lo[axis];
+          p[a] = u, p[b] = v;
+          n[axis] = side ? 1 : -1;
+          pts.push_back(p);
+          nrm.push_back(n);
+        }
+    }
+}
+
+PointTarget box_target(ScanKind scan) {
+  std::vector<Vec3> p, n;
+  if (scan == ScanKind::All) {
+    box_surface({0, 0, 0}, {10, 6, 4}, 0.5, p, n);
+  } else {
+    for (double x = 0.25; x < 10; x += 0.5)
+      for (double y = 0.25; y < 6; y += 0.5) p.push_back({x, y, 4}), n.push_back({0, 0, 1});
+  }
+  return make_point_target(p, n, scan, 0);
+}
+
+const Primitive3D kBox = Primitive3D::box(5, 3, 2, 10, 6, 4);
+
+}  // namespace
+
+TEST(PointFitness, TheRightBoxScoresBestAllAround) {
+  const PointTarget t = box_target(ScanKind::All);
+  const FitnessWeights w;
+  const FitnessTerms exact = point_fitness(Node3D::leaf(kBox), t, w);
+  EXPECT_GT(exact.distance, 0.999);
+  EXPECT_GT(exact.normals, 0.95);  // the central differences blend faces at the edges
+  EXPECT_NEAR(exact.mean_distance, 0, 1e-9);
+  const FitnessTerms moved = point_fitness(Node3D::leaf(Primitive3D::box(5.5, 3, 2, 10, 6, 4)), t, w);
+  EXPECT_LT(moved.fitness, exact.fitness);
+  // A second primitive that changes nothing costs its nodes.
+  const Node3D more = Node3D::op(NodeKind::Union, {Node3D::leaf(kBox), Node3D::leaf(Primitive3D::sphere(5, 3, 2, 1))});
+  EXPECT_NEAR(point_fitness(more, t, w).fitness, exact.fitness - 2 * w.node_cost, 1e-9);
+}
+
+TEST(PointFitness, ScanFromAboveMeasuresAlongZAndSeesTheFloor) {
+  const PointTarget t = box_target(ScanKind::Top);
+  EXPECT_FALSE(t.floor_samples.empty());  // the table around the part
+  const FitnessWeights w;
+  const FitnessTerms exact = point_fitness(Node3D::leaf(kBox), t, w);
+  EXPECT_GT(exact.distance, 0.999);
+  EXPECT_DOUBLE_EQ(exact.floor, 1.0);
+  // Along z a thin plate at the top is as good as the block: only the z-ray counts ...
+  const FitnessTerms plate = point_fitness(Node3D::leaf(Primitive3D::box(5, 3, 3.9, 10, 6, 0.2)), t, w);
+  EXPECT_NEAR(plate.distance, exact.distance, 1e-9);
+  // ... but a block spilling over the table is not.
+  const FitnessTerms wide = point_fitness(Node3D::leaf(Primitive3D::box(5, 3, 2, 16, 6, 4)), t, w);
+  EXPECT_LT(wide.floor, 0.9);
+  EXPECT_LT(wide.fitness, exact.fitness);
+}
+
+TEST(PointFitness, GroundingStandsAPlateOnTheFloor) {
+  const PointTarget t = box_target(ScanKind::Top);
+  Node3D tree = Node3D::op(NodeKind::Difference, {Node3D::leaf(Primitive3D::box(5, 3, 3.9, 10, 6, 0.2)),
+                                                 Node3D::leaf(Primitive3D::cylinder(5, 3, 3, 1, 1))});
+  gp::ground(tree, t);
+  const Primitive3D& plate = tree.children[0].primitive;
+  EXPECT_NEAR(plate.cz - plate.dims[2] / 2, 0, 1e-12);
+  EXPECT_NEAR(plate.cz + plate.dims[2] / 2, 4, 1e-12);
+  const Primitive3D& hole = tree.children[1].primitive;
+  EXPECT_NEAR(hole.cz - hole.dims[2] / 2, 2.5, 1e-12);  // its bottom stays; its top opens up
+  EXPECT_GT(hole.cz + hole.dims[2] / 2, 4);
+}
+
+TEST(PointCurvature, SphereConvexCavityConcavePlaneFlat) {
+  std::vector<Vec3> p, out, in;
+  for (int i = 0; i < 2000; ++i) {
+    // A Fibonacci sphere of radius 5.
+    const double z = 1 - 2 * (i + 0.5) / 2000, r = std::sqrt(1 - z * z), a = 2.399963 * i;
+    const Vec3 n{r * std::cos(a), r * std::sin(a), z};
+    p.push_back({5 * n[0], 5 * n[1], 5 * n[2]});
+    out.push_back(n);
+    in.push_back({-n[0], -n[1], -n[2]});
+  }
+  int convex = 0, concave = 0;
+  for (CurvatureType c : curvature_types(p, out, 100)) convex += c == CurvatureType::Convex;
+  for (CurvatureType c : curvature_types(p, in, 100)) concave += c == CurvatureType::Concave;
+  EXPECT_GT(convex, 1900);
+  EXPECT_GT(concave, 1900);
+  std::vector<Vec3> plane, up;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) plane.push_back({i * 0.5, j * 0.5, 1}), up.push_back({0, 0, 1});
+  for (CurvatureType c : curvature_types(plane, up, 30)) EXPECT_EQ(c, CurvatureType::Flat);
+}
+
+TEST(GpOperators, EveryVariationKeepsTheTreeValid) {
+  const PointTarget t = box_target(ScanKind::All);
+  const std::vector<std::size_t> subset;
+  const gp::Context c{&t, &subset, PrimitiveSet3D::parse("box,sphere,cylinder,cone"), nullptr, 0.05};
+  rnd::Rng rng(7);
+  GpIndividual a{Node3D::leaf(kBox), {0.05}, 0}, b = a;
+  for (int step = 0; step < 400; ++step) {
+    GpIndividual g = step % 2 ? a : b;
+    switch (step % 6) {
+      case 0: gp::insert_terminal(g, c, rng); break;
+      case 1: gp::delete_subtree(g, rng); break;
+      case 2: gp::mutate_relation(g, rng); break;
+      case 3: gp::replace_terminal(g, c, rng); break;
+      case 4: g = gp::exchange_subtrees(a, b, rng); break;
+      default: gp::mutate_terminals(g, c, rng); break;
+    }
+    if (!gp::tidy(g, c)) continue;
+    ASSERT_GT(g.tree.primitive_count(), 0u);
+    ASSERT_EQ(g.sigma.size(), leaves(g.tree).size());
+    for (const Primitive3D* p : leaves(g.tree)) {
+      ASSERT_TRUE(std::isfinite(p->cx + p->cy + p->cz + p->dims[0] + p->dims[1] + p->dims[2]));
+      ASSERT_GT(p->volume(), 0);
+    }
+    (step % 2 ? a : b) = std::move(g);
+  }
+}
+
+TEST(GpSearch, SameSeedSameTree) {
+  const PointTarget t = box_target(ScanKind::All);
+  GpParams params;
+  params.max_generations = 6;
+  params.time_limit = 1e6;
+  params.islands = 3;
+  params.seed = 11;
+  const GpResult one = run_gp(t, params, {}, nullptr);
+  const GpResult two = run_gp(t, params, {}, nullptr);
+  EXPECT_EQ(one.generations, 6u);
+  EXPECT_TRUE(one.tree == two.tree);
+  EXPECT_EQ(one.terms.fitness, two.terms.fitness);
+  params.seed = 12;
+  EXPECT_FALSE(run_gp(t, params, {}, nullptr).tree == one.tree);
+}
+
+TEST(GpSearch, ImprovesOnItsDetectedStart) {
+  const PointTarget t = box_target(ScanKind::All);
+  GpParams params;
+  params.max_generations = 20;
+  params.time_limit = 1e6;
+  const Node3D near = Node3D::leaf(Primitive3D::box(5.3, 2.8, 2.1, 9.5, 6.4, 4.2));
+  const GpResult r = run_gp(t, params, {near}, nullptr);
+  const FitnessTerms start = point_fitness(near, t, params.weights);
+  EXPECT_GE(r.terms.fitness, start.fitness);
+  EXPECT_LT(r.terms.mean_distance, 0.5 * start.mean_distance);
+}
+
+TEST(NurbsFit, RecoversAPatchFromItsOwnSamples) {
+  std::vector<double> h;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 7; ++i) h.push_back(3 + std::sin(i) + 0.5 * j);
+  const BSplineSurface truth = BSplineSurface::height_field(BSplineBasis(7, 3), BSplineBasis(5, 3), {0, 40, 0, 30}, h);
+  std::vector<Vec3> pts;
+  for (int j = 0; j <= 30; ++j)
+    for (int i = 0; i <= 40; ++i) pts.push_back({double(i), double(j), truth.height_at(i, j)});
+  const PatchFit f = fit_height_patch(pts, 0);
+  EXPECT_LT(f.rms, 1e-4);
+  for (double x : {3.3, 20.0, 37.1})
+    EXPECT_NEAR(f.terminal.patch->height_at(x - 20, 10.7 - 15), truth.height_at(x, 10.7), 1e-3);
+}
+
+namespace {
+
+std::string fit_error(std::vector<Vec3> pts, std::vector<Vec3> nrm, std::optional<ScanKind> scan = {}) {
+  RangeScan s;
+  s.source = "cloud.xyz";
+  s.points = std::move(pts);
+  s.normals = std::move(nrm);
+  PointsFitOptions o;
+  o.scan = scan;
+  o.max_generations = 1;
+  try {
+    fit_points({s}, o);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(FitPoints, BadCloudsAreOneLineErrors) {
+  std::vector<Vec3> p, n;
+  box_surface({0, 0, 0}, {10, 6, 4}, 1, p, n);
+  EXPECT_NE(fit_error({p.begin(), p.begin() + 5}, {n.begin(), n.begin() + 5}).find("too few points"), std::string::npos);
+  std::vector<Vec3> bad = p;
+  bad[3][1] = std::nan("");
+  EXPECT_NE(fit_error(bad, n).find("not finite"), std::string::npos);
+  std::vector<Vec3> zero = n;
+  zero[4] = {0, 0, 0};
+  EXPECT_NE(fit_error(p, zero).find("zero length"), std::string::npos);
+  std::vector<Vec3> line, flat, up;
+  for (int i = 0; i < 50; ++i) line.push_back({i * 1.0, 2.0 * i, 3.0}), up.push_back({0, 0, 1});
+  EXPECT_NE(fit_error(line, up).find("on a line"), std::string::npos);
+  for (int i = 0; i < 50; ++i) flat.push_back({i % 7 * 1.0, i / 7 * 1.0, 3.0});
+  EXPECT_NE(fit_error(flat, up, ScanKind::All).find("on a plane"), std::string::npos);
+  std::vector<Vec3> low = flat;
+  for (Vec3& q : low) q[2] = -1;
+  EXPECT_NE(fit_error(low, up).find("floor"), std::string::npos);
+}
