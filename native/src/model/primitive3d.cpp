@@ -76,6 +76,11 @@ PrimitiveSet3D PrimitiveSet3D::all() {
   return s;
 }
 
+PrimitiveSet3D analytic_kinds(PrimitiveSet3D set) {
+  set.bits &= ~(1u << static_cast<unsigned>(PrimitiveKind3D::Nurbs));
+  return set;
+}
+
 PrimitiveSet3D PrimitiveSet3D::matchable() {
   PrimitiveSet3D s = all();
   s.bits &= ~(1u << static_cast<unsigned>(PrimitiveKind3D::Torus));

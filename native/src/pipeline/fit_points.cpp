@@ -94,9 +94,7 @@ std::vector<Node3D> detected_trees(const std::vector<RangeScan>& scans, const Po
   r.time_limit = seconds;
   r.seed = o.seed;
   r.threads = o.threads;
-  r.primitives = PrimitiveSet3D{};
-  for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::TriangularPrism); ++i)
-    if (o.primitives.has(static_cast<PrimitiveKind3D>(i))) r.primitives.add(static_cast<PrimitiveKind3D>(i));
+  r.primitives = analytic_kinds(o.primitives);
   if (r.primitives.empty()) return {};
   try {
     return {fit_range(scans, r, nullptr, cancel).tree};
@@ -160,9 +158,7 @@ Node3D hill_climb(const PointTarget& t, const PointsFitOptions& o, double second
   v.time_limit = seconds;
   v.seed = o.seed;
   v.threads = o.threads;
-  v.primitives = PrimitiveSet3D{};
-  for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::TriangularPrism); ++i)
-    if (o.primitives.has(static_cast<PrimitiveKind3D>(i))) v.primitives.add(static_cast<PrimitiveKind3D>(i));
+  v.primitives = analytic_kinds(o.primitives);
   if (v.primitives.empty()) v.primitives = PrimitiveSet3D::parse("box");
   FitResult3D r = fit_voxels(enclosed_voxels(t, 64), v, progress, cancel);
   stats = r.stats;

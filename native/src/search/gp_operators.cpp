@@ -28,9 +28,10 @@ void signed_leaves(Node3D& n, bool negative, std::vector<std::pair<Primitive3D*,
 }
 
 std::vector<PrimitiveKind3D> allowed_kinds(const PrimitiveSet3D& set) {
+  const PrimitiveSet3D analytic = analytic_kinds(set);
   std::vector<PrimitiveKind3D> out;
-  for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::TriangularPrism); ++i)
-    if (set.has(static_cast<PrimitiveKind3D>(i))) out.push_back(static_cast<PrimitiveKind3D>(i));
+  for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::Nurbs); ++i)
+    if (analytic.has(static_cast<PrimitiveKind3D>(i))) out.push_back(static_cast<PrimitiveKind3D>(i));
   if (out.empty()) out.push_back(PrimitiveKind3D::Box);
   return out;
 }
@@ -93,12 +94,6 @@ Worst worst_point(const Node3D& tree, const Context& c, rnd::Rng& rng) {
   return w;
 }
 
-double top_of(const PointTarget& t) {
-  double z = t.floor;
-  for (const Vec3& p : t.points) z = std::max(z, p[2]);
-  return z;
-}
-
 // A turn about the new terminal's axis: drawn parts are turned by multiples of 15 degrees far
 // more often than by anything else.
 double spin_degrees(rnd::Rng& rng) {
@@ -121,7 +116,7 @@ Primitive3D new_terminal(const Context& c, const Worst& w, rnd::Rng& rng) {
       he[2] = he[0];
       return make_terminal(kind, {p[0], p[1], add ? p[2] - he[0] : p[2] + he[0]}, he, spin);
     }
-    const double lo = add ? t.floor : p[2], hi = add ? p[2] : top_of(t) + 0.05 * D;
+    const double lo = add ? t.floor : p[2], hi = add ? p[2] : t.top + 0.05 * D;
     he[2] = std::max(0.5 * (hi - lo), 1e-6 * D);
     return make_terminal(kind, {p[0], p[1], 0.5 * (lo + hi)}, he, spin);
   }
@@ -250,7 +245,7 @@ int upright_axis(const Primitive3D& p) {
 
 void ground(Node3D& tree, const PointTarget& t) {
   if (t.scan != ScanKind::Top) return;
-  const double sky = top_of(t) + 0.05 * t.diagonal;
+  const double sky = t.top + 0.05 * t.diagonal;
   std::vector<std::pair<Primitive3D*, bool>> leaves;
   signed_leaves(tree, false, leaves);
   for (auto& [p, negative] : leaves) {

@@ -164,6 +164,8 @@ PointTarget make_point_target(std::vector<Vec3> points, std::vector<Vec3> normal
   PointTarget t;
   t.scan = scan;
   t.floor = floor;
+  t.top = floor;
+  for (const Vec3& p : points) t.top = std::max(t.top, p[2]);
   const Bounds3 box = bounds_of(points);
   t.diagonal = std::max(std::hypot(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]), 1e-12);
   const features_detail::PointNeighbours grid(points);

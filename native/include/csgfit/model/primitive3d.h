@@ -125,6 +125,9 @@ struct PrimitiveSet3D {
   bool empty() const { return bits == 0; }
 };
 
+/// The set without the NURBS terminal: what the fits that have no patch to fit may use.
+PrimitiveSet3D analytic_kinds(PrimitiveSet3D set);
+
 /// Indices into Primitive3D::dims that are free parameters of the kind (a sphere has one, a
 /// cylinder two: {0, 2}, a torus two: {0, 1}); returns how many were written.
 int free_dims(PrimitiveKind3D kind, int out[3]);

@@ -29,6 +29,7 @@ struct PointTarget {
   /// not would otherwise leave the search free to fill the gaps).
   std::vector<Vec3> floor_samples;
   double floor = 0;       ///< top scans: the table's height
+  double top = 0;         ///< the highest point's z (or the floor, if higher)
   double diagonal = 1;    ///< of the points' bounding box
   double spacing = 1;     ///< mean distance to the nearest neighbour
 };

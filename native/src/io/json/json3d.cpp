@@ -228,17 +228,23 @@ ojson graph_to_json(const PrecedenceGraph& g) {
   return ojson{{"subobjects", g.subobjects}, {"nodes", std::move(nodes)}, {"arcs", std::move(arcs)}};
 }
 
-}  // namespace
-
-std::string to_json_range(const RangeFitResult& result, const std::vector<std::string>& sources) {
+// What a fit to points (a range image's or a scan's) writes first: no grid, every source.
+ojson points_document(const Node3D& tree, const FitStats& stats, const std::vector<std::string>& sources) {
   ojson doc;
   doc["schema"] = "csgfit/1";
   doc["dimension"] = 3;
   doc["units"] = "mm";
   doc["source"] = sources.empty() ? std::string() : sources.front();
   doc["sources"] = sources;
-  doc["tree"] = node3d_to_json(result.tree, "tree");
-  doc["stats"] = json_detail::stats_to_json(result.stats);
+  doc["tree"] = node3d_to_json(tree, "tree");
+  doc["stats"] = json_detail::stats_to_json(stats);
+  return doc;
+}
+
+}  // namespace
+
+std::string to_json_range(const RangeFitResult& result, const std::vector<std::string>& sources) {
+  ojson doc = points_document(result.tree, result.stats, sources);
   ojson views = ojson::array();
   for (const ViewAgreement& v : result.views)
     views.push_back(ojson{{"source", v.source}, {"silhouette_iou", v.silhouette_iou},
@@ -254,14 +260,7 @@ std::string to_json_range(const RangeFitResult& result, const std::vector<std::s
 }
 
 std::string to_json_points(const PointsFitResult& result, const std::vector<std::string>& sources) {
-  ojson doc;
-  doc["schema"] = "csgfit/1";
-  doc["dimension"] = 3;
-  doc["units"] = "mm";
-  doc["source"] = sources.empty() ? std::string() : sources.front();
-  doc["sources"] = sources;
-  doc["tree"] = node3d_to_json(result.tree, "tree");
-  doc["stats"] = json_detail::stats_to_json(result.stats);
+  ojson doc = points_document(result.tree, result.stats, sources);
   const FitnessTerms& f = result.terms;
   doc["points"] = ojson{{"scan", result.scan == ScanKind::Top ? "top" : "all"},
                         {"count", result.points},
