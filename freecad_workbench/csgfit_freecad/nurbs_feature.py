@@ -8,10 +8,11 @@ CountU/V, ControlPoints, SizeX/Y), so editing one control point recomputes the f
 
 The control points are the B-spline's poles as they are (P_ij = ControlPoints[i + CountU * j],
 u along local x): the top of the solid is the exact Part.BSplineSurface of the JSON, the one the
-STEP writer gives OpenCASCADE (as one face per knot span, see _span_faces). When the poles' x and
-y sit at the Greville abscissae of the rectangle (as the solver places them) it is exactly the
-height field z = S(x, y); x and y of a pole may be edited too, as long as the net stays a grid
-over the rectangle (a folded net makes no solid).
+STEP writer gives OpenCASCADE (as one face per knot span, see _span_faces). When each column of
+poles keeps one x and each row one y, increasing from side to side of the rectangle (as the solver
+places them: at the Greville abscissae or equally spaced) it is exactly the solver's height field
+z = S(x, y); x and y of a pole may be edited too, as long as the net stays a grid over the
+rectangle (a folded net makes no solid).
 """
 
 from __future__ import annotations

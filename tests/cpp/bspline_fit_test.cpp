@@ -16,11 +16,13 @@ namespace {
 
 const XYRectangle kRect{-1, 2, 0, 1.5};
 
-BSplineSurface random_height_field(int nu, int nv, int p, int q, std::mt19937_64& rng) {
+BSplineSurface random_height_field(int nu, int nv, int p, int q, std::mt19937_64& rng,
+                                   NetSpacing spacing = NetSpacing::Greville) {
   std::uniform_real_distribution<double> d(-1, 1);
   std::vector<double> heights(static_cast<std::size_t>(nu * nv));
   for (double& z : heights) z = d(rng);
-  return BSplineSurface::height_field(BSplineBasis(nu, p), BSplineBasis(nv, q), kRect, heights);
+  return BSplineSurface::height_field(BSplineBasis(nu, p), BSplineBasis(nv, q), kRect, heights,
+                                      spacing);
 }
 
 // A 31 x 31 grid over the rectangle and 300 scattered points, z from `f`.
@@ -71,6 +73,25 @@ TEST(BSplineFit, RecoversAnExactSurfaceFromItsOwnSamples) {
       EXPECT_LT(max_deviation(fit.surface, f), 1e-9);
     }
   }
+}
+
+// On equally spaced columns the fit recovers its own surface as well; the Greville fit of the
+// same net does not (x(u) differs), which is why the patch fit tries both.
+TEST(BSplineFit, RecoversAnExactSurfaceOnEquallySpacedColumns) {
+  std::mt19937_64 rng(15);
+  const BSplineSurface truth = random_height_field(8, 5, 3, 3, rng, NetSpacing::Uniform);
+  const auto f = [&](double x, double y) { return truth.height_at(x, y); };
+  const std::vector<Vec3> pts = samples(f, rng);
+  const HeightFit fit = fit_heights(pts, kRect, 8, 5, 3, 3, 0.0, NetSpacing::Uniform);
+  EXPECT_LT(fit.max_residual, 1e-9);
+  for (std::size_t c = 0; c < truth.net().size(); ++c)
+    EXPECT_NEAR(fit.surface.net()[c][2], truth.net()[c][2], 1e-9);
+  EXPECT_LT(max_deviation(fit.surface, f), 1e-9);
+  EXPECT_GT(fit_heights(pts, kRect, 8, 5, 3, 3, 0.0).max_residual, 1e-3);
+  // A plane costs nothing under the smoothing on unequal column gaps too.
+  const auto plane = [](double x, double y) { return 1 + 2 * x - 3 * y; };
+  EXPECT_LT(max_deviation(fit_heights(samples(plane, rng), kRect, 8, 5, 3, 3, 1e-2, NetSpacing::Uniform).surface,
+                          plane), 1e-9);
 }
 
 TEST(BSplineFit, NoiseStaysBounded) {

@@ -51,6 +51,14 @@ std::vector<Vec3> random_net(int nu, int nv, std::mt19937_64& rng) {
   return net;
 }
 
+// n heights uniform in [-1, 1].
+std::vector<double> random_heights(int n, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> d(-1, 1);
+  std::vector<double> heights(static_cast<std::size_t>(n));
+  for (double& z : heights) z = d(rng);
+  return heights;
+}
+
 }  // namespace
 
 TEST(BSplineBasis, PartitionOfUnityAndNonNegative) {
@@ -172,8 +180,7 @@ TEST(BSplineSurface, HeightFieldFollowsTheRectangle) {
   std::mt19937_64 rng(8);
   std::uniform_real_distribution<double> d(-1, 1);
   const int nu = 5, nv = 6;
-  std::vector<double> heights(nu * nv);
-  for (double& z : heights) z = d(rng);
+  const std::vector<double> heights = random_heights(nu * nv, rng);
   const XYRectangle r{-2, 3, 1, 1.5};
   const BSplineSurface s =
       BSplineSurface::height_field(BSplineBasis(nu, 3), BSplineBasis(nv, 3), r, heights);
@@ -199,4 +206,43 @@ TEST(BSplineSurface, HeightFieldFollowsTheRectangle) {
   EXPECT_THROW(BSplineSurface::height_field(BSplineBasis(4, 3), BSplineBasis(4, 3), r,
                                             std::vector<double>(15)),
                std::invalid_argument);
+}
+
+// Equally spaced control columns (a designer's control polygon): x(u) is a monotone cubic, not
+// u itself, and (x, y) -> (u, v) is its inverse, so S above (x, y) is found exactly.
+TEST(BSplineSurface, UniformColumnsAreInvertedToTheirParameters) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> d(-1, 1);
+  const int nu = 9, nv = 5;
+  const std::vector<double> heights = random_heights(nu * nv, rng);
+  const XYRectangle r{-30, 30, -10, 10};
+  const BSplineSurface s = BSplineSurface::height_field(BSplineBasis(nu, 3), BSplineBasis(nv, 3), r,
+                                                        heights, NetSpacing::Uniform);
+  for (int i = 0; i < nu; ++i) EXPECT_NEAR(s.columns_x()[i], -30 + 60.0 * i / (nu - 1), 1e-12);
+  EXPECT_NEAR(s.height_at(-30, -10), heights[0], 1e-13);
+  EXPECT_NEAR(s.height_at(30, 10), heights.back(), 1e-13);
+  // Not the Greville surface: x(u) bends at the clamped ends.
+  EXPECT_GT(std::abs(s.point(0.05, 0.5)[0] - (-30 + 60 * 0.05)), 0.5);
+  for (int n = 0; n < 200; ++n) {
+    const double x = 30 * d(rng), y = 10 * d(rng);
+    const SurfaceFrame f = s.frame_at(x, y);
+    EXPECT_NEAR(f.point[0], x, 1e-9);
+    EXPECT_NEAR(f.point[1], y, 1e-9);
+  }
+  // Outside the rectangle the parameters clamp, as for Greville columns.
+  EXPECT_EQ(s.parameters_of(-31, 12)[0], 0.0);
+  EXPECT_EQ(s.parameters_of(-31, 12)[1], 1.0);
+  EXPECT_EQ(s.parameters_of(std::nan(""), 0)[0], 0.0);
+}
+
+TEST(BSplineSurface, HeightFieldColumnsMustIncrease) {
+  const std::vector<double> h(16, 1.0);
+  EXPECT_THROW(BSplineSurface::height_field(BSplineBasis(4, 3), BSplineBasis(4, 3), {0, 2, 1, 3},
+                                            {0, 1, 2, 3}, h),
+               std::invalid_argument);
+  EXPECT_THROW(BSplineSurface::height_field(BSplineBasis(4, 3), BSplineBasis(4, 3), {0, 1, 2},
+                                            {0, 1, 2, 3}, h),
+               std::invalid_argument);
+  EXPECT_NO_THROW(BSplineSurface::height_field(BSplineBasis(4, 3), BSplineBasis(4, 3),
+                                               {0, 0.1, 2.5, 3}, {0, 1, 2, 3}, h));
 }

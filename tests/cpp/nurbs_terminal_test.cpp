@@ -15,13 +15,13 @@ using namespace csgfit;
 namespace {
 
 // A 6 x 4 patch over 40 x 20 whose heights rise with x and bulge in y: 5 .. ~12.
-Primitive3D dome(const Quaternion& q = {}) {
+Primitive3D dome(const Quaternion& q = {}, NetSpacing spacing = NetSpacing::Greville) {
   const int nu = 6, nv = 4;
   std::vector<double> h;
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) h.push_back(5 + i + 2.0 * (j == 1 || j == 2));
   BSplineSurface s = BSplineSurface::height_field(BSplineBasis(nu, 3), BSplineBasis(nv, 3),
-                                                  {-20, 20, -10, 10}, h);
+                                                  {-20, 20, -10, 10}, h, spacing);
   return Primitive3D::nurbs(3, -2, 1, std::move(s), q);
 }
 
@@ -56,8 +56,12 @@ TEST(NurbsTerminal, SolidIsBetweenFloorAndPatch) {
 }
 
 TEST(NurbsTerminal, VolumeIsTheIntegralOfThePatch) {
-  const Primitive3D p = dome();
-  EXPECT_NEAR(p.volume(), midpoint_volume(p, 800), 1e-4 * p.volume());
+  for (NetSpacing spacing : {NetSpacing::Greville, NetSpacing::Uniform}) {
+    const Primitive3D p = dome({}, spacing);
+    EXPECT_NEAR(p.volume(), midpoint_volume(p, 800), 1e-4 * p.volume());
+  }
+  // Equally spaced columns are another surface over the same rectangle (not a vacuous loop).
+  EXPECT_GT(std::abs(dome({}, NetSpacing::Uniform).patch->height_at(-17, 0) - dome().patch->height_at(-17, 0)), 0.05);
 }
 
 TEST(NurbsTerminal, RasterisedVolumeAndBoundsAgree) {
@@ -86,9 +90,11 @@ TEST(NurbsTerminal, ZRayMeetsThePatchTopAndTheTreeOperators) {
 }
 
 TEST(NurbsTerminal, JsonRoundTripKeepsThePatch) {
+  for (NetSpacing spacing : {NetSpacing::Greville, NetSpacing::Uniform}) {
   FitResult3D r;
-  r.tree = Node3D::op(NodeKind::Difference, {Node3D::leaf(dome(Quaternion::from_axis_angle(0, 0, 1, 30))),
-                                             Node3D::leaf(Primitive3D::sphere(3, -2, 12, 4))});
+  r.tree = Node3D::op(NodeKind::Difference,
+                      {Node3D::leaf(dome(Quaternion::from_axis_angle(0, 0, 1, 30), spacing)),
+                       Node3D::leaf(Primitive3D::sphere(3, -2, 12, 4))});
   const VoxelGrid grid(4, 4, 4, 0, 0, 0, 1);
   const std::string text = to_json3d(r, grid, "dome.xyz");
   EXPECT_NE(text.find("\"nurbs\""), std::string::npos);
@@ -101,20 +107,40 @@ TEST(NurbsTerminal, JsonRoundTripKeepsThePatch) {
   for (double x : {-15.0, 0.0, 11.0})
     EXPECT_NEAR(b.patch->height_at(x, 3), a.patch->height_at(x, 3), 1e-9);
   EXPECT_NEAR(b.volume(), a.volume(), 1e-9 * a.volume());
+  }
 }
 
+// The reader evaluates z = S(x, y): each column must keep one x, the x increase, and the end
+// columns be the rectangle's sides; each way off that is named.
 TEST(NurbsTerminal, JsonRefusesANetOffItsGrid) {
   FitResult3D r;
-  r.tree = Node3D::leaf(dome());
-  std::string text = to_json3d(r, VoxelGrid(4, 4, 4, 0, 0, 0, 1), "dome.xyz");
-  // The first control point's x moved off the rectangle's Greville grid.
-  text = std::regex_replace(text, std::regex("\"control_points\": \\[\\s*\\[\\s*-20"), "\"control_points\": [[-19");
-  try {
-    from_json3d(text);
-    FAIL() << "a net off its grid was read";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("Greville"), std::string::npos) << e.what();
-  }
+  r.tree = Node3D::leaf(dome({}, NetSpacing::Uniform));
+  const std::string text = to_json3d(r, VoxelGrid(4, 4, 4, 0, 0, 0, 1), "dome.xyz");
+  const auto error_of = [](const std::string& t) -> std::string {
+    try {
+      from_json3d(t);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const auto edit = [&](const char* pattern, const char* by) {
+    return std::regex_replace(text, std::regex(pattern), by, std::regex_constants::format_first_only);
+  };
+  // The first control point alone moved: its column no longer keeps one x.
+  EXPECT_NE(error_of(edit("\"control_points\": \\[\\s*\\[\\s*-20", "\"control_points\": [[-19")).find("grid"),
+            std::string::npos);
+  // The whole first column moved in: the net no longer spans the rectangle.
+  EXPECT_NE(error_of(std::regex_replace(text, std::regex("\\[\\s*-20(\\.0)?,"), "[-19,")).find("sides"),
+            std::string::npos);
+  // The second and third columns (x = -12 and -4 of six equally spaced over 40) swapped: the
+  // net folds.
+  const std::string folded = std::regex_replace(
+      std::regex_replace(std::regex_replace(text, std::regex("\\[\\s*-12(\\.0)?,"), "[@,"),
+                         std::regex("\\[\\s*-4(\\.0)?,"), "[-12,"),
+      std::regex("\\[@,"), "[-4,");
+  EXPECT_NE(error_of(folded).find("increasing"), std::string::npos) << error_of(folded);
+  EXPECT_EQ(error_of(text), "");
 }
 
 TEST(NurbsTerminal, ScadPolyhedronStatesItsDeviation) {

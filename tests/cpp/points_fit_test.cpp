@@ -181,6 +181,32 @@ TEST(NurbsFit, RecoversAPatchFromItsOwnSamples) {
     EXPECT_NEAR(f.terminal.patch->height_at(x - 20, 10.7 - 15), truth.height_at(x, 10.7), 1e-3);
 }
 
+// The seed's sparse blade: 8 x 24 samples of a net drawn with equally spaced columns. A
+// Greville net bends between the sample rows where the true surface does not; the held-out
+// points choose the spacing, and the surface between the rows comes back.
+TEST(NurbsFit, ChoosesEquallySpacedColumnsWhenThePointsSayso) {
+  std::vector<double> h;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 12; ++i) h.push_back(10 + 2 * std::sin(0.9 * i) - 0.8 * j);
+  const BSplineSurface truth = BSplineSurface::height_field(BSplineBasis(12, 3), BSplineBasis(4, 3),
+                                                            {0, 60, 0, 20}, h, NetSpacing::Uniform);
+  std::vector<Vec3> pts;
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 24; ++i) {
+      const double x = 60.0 * i / 23, y = 20.0 * j / 7;
+      pts.push_back({x, y, truth.height_at(x, y)});
+    }
+  const PatchFit f = fit_height_patch(pts, 0);
+  EXPECT_EQ(f.spacing, NetSpacing::Uniform);
+  double worst = 0;
+  for (int j = 0; j <= 40; ++j)
+    for (int i = 0; i <= 120; ++i) {
+      const double x = 0.5 * i, y = 0.5 * j;
+      worst = std::max(worst, std::abs(f.terminal.patch->height_at(x - 30, y - 10) - truth.height_at(x, y)));
+    }
+  EXPECT_LT(worst, 0.01);
+}
+
 namespace {
 
 std::string fit_error(std::vector<Vec3> pts, std::vector<Vec3> nrm, std::optional<ScanKind> scan = {}) {

@@ -43,18 +43,17 @@ Sparse collocation(const BSplineSurface& s, const std::vector<Vec3>& points) {
 }
 
 // Rows of D along one direction: second divided differences of the heights over the control
-// points' positions (the Greville abscissae scaled to the rectangle, so that the penalty
-// approximates the integral of z_xx^2 + z_yy^2 in model units, the same in x and in y).
-// Divided differences, not plain ones, because the Greville abscissae of a clamped basis are
-// not equally spaced at the ends: a plane has zero penalty only with the divided ones.
-void second_differences(const BSplineBasis& along, double length, int lines, int stride_along,
+// columns' positions (so that the penalty approximates the integral of z_xx^2 + z_yy^2 in model
+// units, the same in x and in y). Divided differences, not plain ones, because the columns are
+// not equally spaced (Greville abscissae crowd at clamped ends): a plane has zero penalty only
+// with the divided ones.
+void second_differences(const std::vector<double>& at, int lines, int stride_along,
                         int stride_across, Triplets& t, int& row) {
   for (int line = 0; line < lines; ++line)
-    for (int i = 1; i + 1 < along.count(); ++i) {
-      const double g0 = length * along.greville(i - 1), g1 = length * along.greville(i),
-                   g2 = length * along.greville(i + 1);
+    for (std::size_t i = 1; i + 1 < at.size(); ++i) {
+      const double g0 = at[i - 1], g1 = at[i], g2 = at[i + 1];
       const double w0 = 2 / ((g1 - g0) * (g2 - g0)), w2 = 2 / ((g2 - g1) * (g2 - g0));
-      const int c = i * stride_along + line * stride_across;
+      const int c = static_cast<int>(i) * stride_along + line * stride_across;
       t.emplace_back(row, c - stride_along, w0);
       t.emplace_back(row, c, -(w0 + w2));
       t.emplace_back(row, c + stride_along, w2);
@@ -63,13 +62,12 @@ void second_differences(const BSplineBasis& along, double length, int lines, int
 }
 
 Sparse smoothing_operator(const BSplineSurface& s) {
-  const BSplineBasis &bu = s.u_basis(), &bv = s.v_basis();
-  const XYRectangle& r = s.rectangle();
+  const int nu = s.u_basis().count(), nv = s.v_basis().count();
   Triplets t;
   int rows = 0;
-  second_differences(bu, r.x1 - r.x0, bv.count(), 1, bu.count(), t, rows);
-  second_differences(bv, r.y1 - r.y0, bu.count(), bu.count(), 1, t, rows);
-  Sparse d(rows, bu.count() * bv.count());
+  second_differences(s.columns_x(), nv, 1, nu, t, rows);
+  second_differences(s.rows_y(), nu, nu, 1, t, rows);
+  Sparse d(rows, nu * nv);
   d.setFromTriplets(t.begin(), t.end());
   return d;
 }
@@ -97,13 +95,13 @@ Eigen::VectorXd solve_heights(const Sparse& a, const Eigen::VectorXd& z, const S
 }  // namespace
 
 HeightFit fit_heights(const std::vector<Vec3>& points, const XYRectangle& rect, int nu, int nv,
-                      int p, int q, double smoothing) {
+                      int p, int q, double smoothing, NetSpacing spacing) {
   check_points(points);
   if (!(smoothing >= 0) || !std::isfinite(smoothing))
     throw std::invalid_argument("B-spline fit: smoothing must be finite and >= 0");
   BSplineBasis bu(nu, p), bv(nv, q);
   BSplineSurface s = BSplineSurface::height_field(
-      bu, bv, rect, std::vector<double>(static_cast<std::size_t>(nu) * nv, 0.0));
+      bu, bv, rect, std::vector<double>(static_cast<std::size_t>(nu) * nv, 0.0), spacing);
   const Sparse a = collocation(s, points);
   Eigen::VectorXd z(static_cast<Eigen::Index>(points.size()));
   for (std::size_t k = 0; k < points.size(); ++k) z[static_cast<Eigen::Index>(k)] = points[k][2];

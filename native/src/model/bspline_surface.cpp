@@ -106,22 +106,94 @@ BSplineSurface::BSplineSurface(BSplineBasis u_basis, BSplineBasis v_basis, std::
     throw std::invalid_argument("B-spline surface: the control net must have nu x nv vertices");
 }
 
+namespace {
+
+bool finite_rectangle(const XYRectangle& r) {
+  return std::isfinite(r.x0) && std::isfinite(r.x1) && r.x1 > r.x0 && std::isfinite(r.y0) &&
+         std::isfinite(r.y1) && r.y1 > r.y0;
+}
+
+std::vector<double> columns(const BSplineBasis& b, double lo, double hi, NetSpacing spacing) {
+  std::vector<double> out(static_cast<std::size_t>(b.count()));
+  for (int i = 0; i < b.count(); ++i) {
+    const double t = spacing == NetSpacing::Greville ? b.greville(i)
+                                                     : static_cast<double>(i) / (b.count() - 1);
+    out[i] = lo + (hi - lo) * t;
+  }
+  out.back() = hi;  // the end columns are the rectangle's sides, not a rounding of them
+  return out;
+}
+
+bool increasing(const std::vector<double>& c) {
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (!std::isfinite(c[i]) || (i > 0 && !(c[i] > c[i - 1]))) return false;
+  return true;
+}
+
+// Whether columns stand at the Greville abscissae, where the coordinate is linear in u and the
+// inversion is one division (bitwise the same as before columns could move).
+bool at_greville(const BSplineBasis& b, const std::vector<double>& c) {
+  const double lo = c.front(), hi = c.back(), tol = 1e-12 * (hi - lo);
+  for (int i = 0; i < b.count(); ++i)
+    if (std::fabs(c[i] - (lo + (hi - lo) * b.greville(i))) > tol) return false;
+  return true;
+}
+
+// u with x(u) = sum_i N_i(u) c_i = x. Strictly increasing columns make x(u) strictly increasing
+// (its derivative is a positive combination of column differences), so Newton from the linear
+// guess, kept inside the bracket it shrinks, cannot leave [0, 1] or cycle.
+double invert_coordinate(const BSplineBasis& b, const std::vector<double>& c, double x) {
+  const double lo = c.front(), hi = c.back();
+  if (!(x > lo)) return 0.0;  // NaN too, as clamp01 does
+  if (!(x < hi)) return 1.0;
+  double a = 0, z = 1, u = (x - lo) / (hi - lo);
+  for (int it = 0; it < 60 && z - a > 1e-16; ++it) {
+    const BasisAt at = b.at(u);
+    double f = -x, slope = 0;
+    for (int r = 0; r <= b.degree(); ++r) {
+      f += at.value[r] * c[at.first + r];
+      slope += at.slope[r] * c[at.first + r];
+    }
+    if (std::fabs(f) <= 1e-14 * (hi - lo)) break;
+    (f > 0 ? z : a) = u;
+    const double next = slope > 0 ? u - f / slope : 0.5 * (a + z);
+    u = next > a && next < z ? next : 0.5 * (a + z);
+  }
+  return u;
+}
+
+}  // namespace
+
 BSplineSurface BSplineSurface::height_field(BSplineBasis u_basis, BSplineBasis v_basis,
                                             const XYRectangle& rect,
-                                            const std::vector<double>& heights) {
-  if (!(std::isfinite(rect.x0) && std::isfinite(rect.x1) && rect.x1 > rect.x0 &&
-        std::isfinite(rect.y0) && std::isfinite(rect.y1) && rect.y1 > rect.y0))
+                                            const std::vector<double>& heights,
+                                            NetSpacing spacing) {
+  if (!finite_rectangle(rect))
     throw std::invalid_argument("B-spline height field: the x-y rectangle is empty or not finite");
+  std::vector<double> xs = columns(u_basis, rect.x0, rect.x1, spacing);
+  std::vector<double> ys = columns(v_basis, rect.y0, rect.y1, spacing);
+  return height_field(std::move(u_basis), std::move(v_basis), std::move(xs), std::move(ys), heights);
+}
+
+BSplineSurface BSplineSurface::height_field(BSplineBasis u_basis, BSplineBasis v_basis,
+                                            std::vector<double> xs, std::vector<double> ys,
+                                            const std::vector<double>& heights) {
   const int nu = u_basis.count(), nv = v_basis.count();
+  if (xs.size() != static_cast<std::size_t>(nu) || ys.size() != static_cast<std::size_t>(nv) ||
+      !increasing(xs) || !increasing(ys))
+    throw std::invalid_argument("B-spline height field: control columns and rows must be finite "
+                                "and strictly increasing, one per control point");
   if (heights.size() != static_cast<std::size_t>(nu) * nv)
     throw std::invalid_argument("B-spline height field: need nu x nv control heights");
   std::vector<Vec3> net(heights.size());
   for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i)
-      net[i + nu * j] = {rect.x0 + (rect.x1 - rect.x0) * u_basis.greville(i),
-                         rect.y0 + (rect.y1 - rect.y0) * v_basis.greville(j), heights[i + nu * j]};
+    for (int i = 0; i < nu; ++i) net[i + nu * j] = {xs[i], ys[j], heights[i + nu * j]};
   BSplineSurface s(std::move(u_basis), std::move(v_basis), std::move(net));
-  s.rect_ = rect;
+  s.rect_ = {xs.front(), xs.back(), ys.front(), ys.back()};
+  s.linear_x_ = at_greville(s.u_, xs);
+  s.linear_y_ = at_greville(s.v_, ys);
+  s.xs_ = std::move(xs);
+  s.ys_ = std::move(ys);
   return s;
 }
 
@@ -148,8 +220,8 @@ SurfaceFrame BSplineSurface::frame(double u, double v) const {
 Vec3 BSplineSurface::point(double u, double v) const { return frame(u, v).point; }
 
 std::array<double, 2> BSplineSurface::parameters_of(double x, double y) const {
-  return {clamp01((x - rect_.x0) / (rect_.x1 - rect_.x0)),
-          clamp01((y - rect_.y0) / (rect_.y1 - rect_.y0))};
+  return {linear_x_ ? clamp01((x - rect_.x0) / (rect_.x1 - rect_.x0)) : invert_coordinate(u_, xs_, x),
+          linear_y_ ? clamp01((y - rect_.y0) / (rect_.y1 - rect_.y0)) : invert_coordinate(v_, ys_, y)};
 }
 
 double BSplineSurface::height_at(double x, double y) const { return frame_at(x, y).point[2]; }

@@ -8,7 +8,7 @@ namespace csgfit::nurbs {
 namespace {
 
 // 6-point Gauss-Legendre on [-1, 1]: exact for polynomials of degree 11, so for a bicubic patch
-// that stays above its floor the volume is exact per knot span.
+// that stays above its floor (times its quadratic Jacobian) the volume is exact per knot span.
 constexpr double kNodes[6] = {-0.9324695142031521, -0.6612093864662645, -0.2386191860831969,
                               0.2386191860831969,  0.6612093864662645,  0.9324695142031521};
 constexpr double kWeights[6] = {0.1713244923791704, 0.3607615730481386, 0.4679139345726910,
@@ -44,7 +44,6 @@ double signed_distance(const Primitive3D& p, const Vec3& l) {
 
 double volume(const Primitive3D& p) {
   const BSplineSurface& s = *p.patch;
-  const XYRectangle& r = s.rectangle();
   const std::vector<double> bu = breaks(s.u_basis()), bv = breaks(s.v_basis());
   double total = 0;
   for (std::size_t a = 0; a + 1 < bu.size(); ++a)
@@ -55,11 +54,13 @@ double volume(const Primitive3D& p) {
         for (int j = 0; j < 6; ++j) {
           const double u = u0 + (u1 - u0) * (kNodes[i] + 1) / 2;
           const double v = v0 + (v1 - v0) * (kNodes[j] + 1) / 2;
-          span += kWeights[i] * kWeights[j] * std::max(s.point(u, v)[2], 0.0);
+          // dx dy = x'(u) y'(v) du dv: x depends on u alone and y on v alone.
+          const SurfaceFrame f = s.frame(u, v);
+          span += kWeights[i] * kWeights[j] * std::max(f.point[2], 0.0) * f.du[0] * f.dv[1];
         }
       total += span * (u1 - u0) * (v1 - v0) / 4;
     }
-  return total * (r.x1 - r.x0) * (r.y1 - r.y0);
+  return total;
 }
 
 Vec3 dims_of(const BSplineSurface& patch) {

@@ -13,6 +13,9 @@ constexpr int kSizes[] = {4, 5, 6, 7, 8, 10, 12, 15, 18, 24};
 // Sparse scans (the seed's 8 x 24 points under 15 x 4 vertices) leave room between the rows for
 // a net to wiggle: the bending weight is chosen with the net, on the same held-out points.
 constexpr double kSmoothings[] = {1e-8, 1e-6, 1e-5, 1e-4};
+// Greville columns make x linear in u; equally spaced ones are how a designer draws a control
+// polygon, and between sparse sample rows the two bend differently: the held-out points choose.
+constexpr NetSpacing kSpacings[] = {NetSpacing::Greville, NetSpacing::Uniform};
 
 double rms_on(const BSplineSurface& s, const std::vector<Vec3>& points) {
   double sum = 0;
@@ -40,26 +43,30 @@ PatchFit fit_height_patch(const std::vector<Vec3>& points, double floor) {
   const std::size_t most = points.size() / 3;
   int best_u = 0, best_v = 0;
   double best = std::numeric_limits<double>::infinity(), best_smoothing = kSmoothings[0];
+  NetSpacing best_spacing = NetSpacing::Greville;
   std::size_t best_size = 0;
-  for (int nu : kSizes)
-    for (int nv : kSizes)
-      for (double smoothing : kSmoothings) {
-        const std::size_t size = static_cast<std::size_t>(nu * nv);
-        if (size > most) continue;
-        try {
-          const HeightFit f = fit_heights(train, rect, nu, nv, 3, 3, smoothing);
-          const double e = rms_on(f.surface, test);
-          // Of two nets that predict as well, the smaller is the one a designer would edit.
-          const bool better = e < best * (size < best_size ? 1.02 : size > best_size ? 0.98 : 1.0);
-          if (best_u == 0 || better)
-            best = e, best_u = nu, best_v = nv, best_size = size, best_smoothing = smoothing;
-        } catch (const std::invalid_argument&) {
-          // A net the training points do not determine is no candidate.
+  for (NetSpacing spacing : kSpacings)
+    for (int nu : kSizes)
+      for (int nv : kSizes)
+        for (double smoothing : kSmoothings) {
+          const std::size_t size = static_cast<std::size_t>(nu * nv);
+          if (size > most) continue;
+          try {
+            const HeightFit f = fit_heights(train, rect, nu, nv, 3, 3, smoothing, spacing);
+            const double e = rms_on(f.surface, test);
+            // Of two nets that predict as well, the smaller is the one a designer would edit.
+            const bool better = e < best * (size < best_size ? 1.02 : size > best_size ? 0.98 : 1.0);
+            if (best_u == 0 || better)
+              best = e, best_u = nu, best_v = nv, best_size = size, best_smoothing = smoothing,
+              best_spacing = spacing;
+          } catch (const std::invalid_argument&) {
+            // A net the training points do not determine is no candidate.
+          }
         }
-      }
   if (best_u == 0) throw std::invalid_argument("no control net fits the points");
-  HeightFit all = fit_heights(local, rect, best_u, best_v, 3, 3, best_smoothing);
-  PatchFit out{Primitive3D::nurbs(cx, cy, floor, all.surface), best_u, best_v, all.rms, best};
+  HeightFit all = fit_heights(local, rect, best_u, best_v, 3, 3, best_smoothing, best_spacing);
+  PatchFit out{Primitive3D::nurbs(cx, cy, floor, all.surface), best_u, best_v, best_spacing,
+               all.rms, best};
   return out;
 }
 

@@ -39,6 +39,34 @@ std::pair<int, int> two_counts(const ojson& j, const char* key, int lo, int hi, 
   return {static_cast<int>(u), static_cast<int>(v)};
 }
 
+// The reader evaluates z = S(x, y) by inverting x(u) and y(v) alone: the net must be a grid
+// whose columns keep one x and rows one y, strictly increasing from one side of the rectangle
+// 'size' to the other (any spacing: Greville, equal, a designer's own).
+BSplineSurface height_field_of(BSplineBasis u, BSplineBasis v, const std::vector<Vec3>& points,
+                               const std::vector<double>& size, const std::string& where) {
+  const int nu = u.count(), nv = v.count();
+  const double tol = 1e-6 * std::max(size[0], size[1]);
+  std::vector<double> xs(nu), ys(nv), heights;
+  for (int i = 0; i < nu; ++i) xs[i] = points[i][0];
+  for (int j = 0; j < nv; ++j) ys[j] = points[static_cast<std::size_t>(nu) * j][1];
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const Vec3& c = points[i + static_cast<std::size_t>(nu) * j];
+      if (std::fabs(c[0] - xs[i]) > tol || std::fabs(c[1] - ys[j]) > tol)
+        fail(where, "control points must form a grid: one x per column, one y per row");
+      heights.push_back(c[2]);
+    }
+  if (std::fabs(xs.front() + size[0] / 2) > tol || std::fabs(xs.back() - size[0] / 2) > tol ||
+      std::fabs(ys.front() + size[1] / 2) > tol || std::fabs(ys.back() - size[1] / 2) > tol)
+    fail(where, "the control net's end columns and rows must be the sides of the rectangle 'size'");
+  xs.front() = -size[0] / 2, xs.back() = size[0] / 2, ys.front() = -size[1] / 2, ys.back() = size[1] / 2;
+  try {
+    return BSplineSurface::height_field(std::move(u), std::move(v), std::move(xs), std::move(ys), heights);
+  } catch (const std::invalid_argument&) {
+    fail(where, "control columns and rows must be strictly increasing in x and y");
+  }
+}
+
 }  // namespace
 
 void write_nurbs_fields(const Primitive3D& p, const std::string& where, ojson& j) {
@@ -71,22 +99,14 @@ void read_nurbs_fields(const ojson& j, const std::string& where, Primitive3D& p)
     BSplineBasis v(numbers(j, "knots_v", where), degree.second);
     if (u.count() != counts.first || v.count() != counts.second)
       fail(where, "the knot vectors do not fit 'counts' and 'degree'");
-    std::vector<double> heights;
     std::vector<Vec3> points;
     for (const ojson& c : net) {
       if (!c.is_array() || c.size() != 3) fail(where, "a control point must be [x, y, z]");
       points.push_back({finite_entry(c[0], "control_points", where),
                         finite_entry(c[1], "control_points", where),
                         finite_entry(c[2], "control_points", where)});
-      heights.push_back(points.back()[2]);
     }
-    const XYRectangle rect{-size[0] / 2, size[0] / 2, -size[1] / 2, size[1] / 2};
-    BSplineSurface s = BSplineSurface::height_field(u, v, rect, heights);
-    // The reader evaluates z = S(x, y) straight from x and y: the net must be the grid.
-    const double tol = 1e-6 * std::max(size[0], size[1]);
-    for (std::size_t i = 0; i < n; ++i)
-      if (std::fabs(points[i][0] - s.net()[i][0]) > tol || std::fabs(points[i][1] - s.net()[i][1]) > tol)
-        fail(where, "control points must lie on the Greville grid of the rectangle 'size'");
+    BSplineSurface s = height_field_of(std::move(u), std::move(v), points, size, where);
     const Primitive3D placed = Primitive3D::nurbs(p.cx, p.cy, p.cz, std::move(s), p.rotation);
     p.patch = placed.patch;
     p.dims = placed.dims;
