@@ -75,19 +75,6 @@ PointsFitOptions fit_options(const PointsArgs& a) {
   return o;
 }
 
-void print_report(const PointsFitResult& r) {
-  const FitnessTerms& f = r.terms;
-  std::printf("scan: %s, %zu points; search: %s", r.scan == ScanKind::Top ? "top" : "all", r.points,
-              r.islands ? "gp" : "hill");
-  if (r.islands) std::printf(" on %zu islands, %zu generations, from %s", r.islands, r.generations, r.first_tree.c_str());
-  std::printf("\nfitness %.5f = distance %.5f + normals %.5f + curvature %.5f - nodes %zu\n", f.fitness,
-              f.distance, f.normals, f.curvature, f.nodes);
-  std::printf("mean distance %.4g (%.3f %% of the diagonal); floor term %.4f", f.mean_distance,
-              100 * f.mean_distance / r.diagonal, f.floor);
-  if (r.patch_rms >= 0) std::printf("; NURBS patch rms %.4g", r.patch_rms);
-  std::printf("\n");
-}
-
 void run_points(const PointsArgs& a) {
   for (const std::string& out : a.outputs) check_output(out);
   const PointsFitOptions options = fit_options(a);
@@ -114,7 +101,7 @@ void run_points(const PointsArgs& a) {
   out.scad.summary = summary;
   out.document = [&] { return to_json_points(fitted, a.inputs); };
   for (const std::string& path : a.outputs) write_output(path, out);
-  if (a.report) print_report(fitted);
+  if (a.report) std::fputs(fitness_report(fitted).c_str(), stdout);
   if (!a.quiet) std::fprintf(stderr, "csgfit: %s; %.2f s\n", summary, fitted.stats.seconds);
 }
 

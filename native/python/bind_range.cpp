@@ -23,10 +23,7 @@
 #include "csgfit/seed/precedence_graph.h"
 #include "options.h"
 #include "progress.h"
-#include "scad_writer3d.h"
-#ifdef CSGFIT_PY_STEP
-#include "step_writer.h"
-#endif
+#include "tree_outputs.h"
 
 namespace csgfit_python {
 
@@ -99,28 +96,11 @@ py::array_t<int> int_array(const std::vector<int>& v) {
   return out;
 }
 
-void save_step(const NativeRangeResult& r, const std::string& path) {
-#ifdef CSGFIT_PY_STEP
-  csgfit::StepOptions step;
-  step.source = r.sources.empty() ? "" : r.sources.front();
-  without_gil([&] { csgfit::write_step(r.fit.tree, path, step); });
-#else
-  (void)r;
-  throw csgfit::InputError("cannot write '" + path + "': built without OpenCASCADE (no STEP)");
-#endif
-}
-
 void bind_result(py::module_& m) {
-  py::class_<NativeRangeResult>(m, "NativeRangeResult",
-                                "A range fit in model units; wrapped by csgfit.RangeFitResult.")
-      .def_property_readonly("source",
-                             [](const NativeRangeResult& r) {
-                               return r.sources.empty() ? std::string() : r.sources.front();
-                             })
-      .def_property_readonly("sources", [](const NativeRangeResult& r) { return r.sources; })
-      .def_property_readonly("diagonal", [](const NativeRangeResult& r) { return r.fit.diagonal; },
-                             "The diagonal of the points' bounding box.")
-      .def_property_readonly(
+  py::class_<NativeRangeResult> c(m, "NativeRangeResult",
+                                  "A range fit in model units; wrapped by csgfit.RangeFitResult.");
+  def_cloud_outputs(c);
+  c.def_property_readonly(
           "patch_of_point",
           [](const NativeRangeResult& r) { return int_array(r.fit.patch_of_point); },
           "Per merged point (views in order), its patch index; -1 = in no patch.")
@@ -131,19 +111,8 @@ void bind_result(py::module_& m) {
           [](const NativeRangeResult& r) { return csgfit::to_json_range(r.fit, r.sources); },
           "The range JSON document, as `csgfit range -o x.json` writes it.")
       .def(
-          "to_scad",
-          [](const NativeRangeResult& r, int fn) {
-            if (fn < 3) throw csgfit::InputError("fn must be >= 3");
-            csgfit::ScadOptions3D options;
-            options.fn = fn;
-            options.source = r.sources.empty() ? "" : r.sources.front();
-            return csgfit::to_scad(r.fit.tree, options);
-          },
-          py::arg("fn") = 96, "OpenSCAD 2021.01 source of the tree (model units).")
-      .def(
           "report", [](const NativeRangeResult& r) { return csgfit::precedence_report(r.fit.graph); },
           "Seed 002's Fig. 10 listing of the precedence graph.")
-      .def("save_step", &save_step, py::arg("path"), "Writes the tree as a STEP solid.")
       .def(
           "save_preview",
           [](const NativeRangeResult& r, const std::string& path) {

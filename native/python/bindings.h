@@ -16,6 +16,8 @@ void bind_2d(pybind11::module_& m);
 void bind_3d(pybind11::module_& m);
 /// The range fit (range images, point files and arrays) and its result.
 void bind_range(pybind11::module_& m);
+/// The point-cloud fit (seed 004: point files and arrays) and its result.
+void bind_points(pybind11::module_& m);
 /// Seed 001's optimiser on OpenSCAD programs.
 void bind_optimize(pybind11::module_& m);
 /// Seed 000's morphing of two bitmaps (or two meshes / voxel files).

@@ -18,4 +18,5 @@ PYBIND11_MODULE(_csgfit, m) {
   csgfit_python::bind_2d(m);
   csgfit_python::bind_3d(m);
   csgfit_python::bind_range(m);
+  csgfit_python::bind_points(m);
 }

@@ -260,11 +260,13 @@ def test_docs_example_runs_as_written(tmp_path, monkeypatch):
     assert blocks, "docs/PYTHON.md has no python example"
     monkeypatch.chdir(tmp_path)
     # The range example reads object_b's view A as a user would have it: beside the script.
-    range_dir = os.path.join(REPO, "..", "shared", "benchmarks", "range")
-    for name in ("object_b_ortho.png", "object_b_ortho.json"):
-        if os.path.exists(os.path.join(range_dir, name)):
-            shutil.copy(os.path.join(range_dir, name), tmp_path / name)
+    shared = os.path.join(REPO, "..", "shared", "benchmarks")
+    for folder, name in (("range", "object_b_ortho.png"), ("range", "object_b_ortho.json"),
+                         ("points", "blade_top.xyz")):
+        if os.path.exists(os.path.join(shared, folder, name)):
+            shutil.copy(os.path.join(shared, folder, name), tmp_path / name)
     for code in blocks:
-        if "object_b_ortho.png" in code and not (tmp_path / "object_b_ortho.png").exists():
+        needs = [n for n in ("object_b_ortho.png", "blade_top.xyz") if n in code]
+        if any(not (tmp_path / n).exists() for n in needs):
             continue  # no benchmarks beside the repository
         exec(compile(code, doc, "exec"), {"__name__": "__docs__"})

@@ -1,4 +1,4 @@
-"""Tests of the csgfit module's range fit (fit_range, fit_points: seed 002) on the object of
+"""Tests of the csgfit module's range fit (fit_range, fit_range_points: seed 002) on the object of
 Lin & Chen's Fig. 10 in ../shared/benchmarks/range and on points the tests sample from a known
 part (run with /usr/bin/python3 -m pytest tests/python)."""
 
@@ -158,8 +158,8 @@ def check_box_and_cylinder(r):
 
 def test_fit_points_finds_a_sampled_box_and_cylinder():
     points, normals = box_and_cylinder()
-    check_box_and_cylinder(csgfit.fit_points(points, time=20, seed=1))
-    r = csgfit.fit_points(points, normals, time=20, seed=1)
+    check_box_and_cylinder(csgfit.fit_range_points(points, time=20, seed=1))
+    r = csgfit.fit_points(points, normals, search="range", time=20, seed=1)
     check_box_and_cylinder(r)
     assert not r.has_preview
     with pytest.raises(csgfit.InputError, match="no preview"):
@@ -170,13 +170,13 @@ def test_fit_points_reads_an_xyz_file(tmp_path):
     points, normals = box_and_cylinder(seed=2)
     path = tmp_path / "part.xyz"
     np.savetxt(path, np.hstack([points, normals]))
-    check_box_and_cylinder(csgfit.fit_points(path, time=20, seed=1))
+    check_box_and_cylinder(csgfit.fit_range_points(path, time=20, seed=1))
 
 
 def test_same_seed_same_tree():
     points, _ = box_and_cylinder(seed=3)
-    a = csgfit.fit_points(points, time=20, seed=7, threads=2)
-    b = csgfit.fit_points(points, time=20, seed=7, threads=2)
+    a = csgfit.fit_range_points(points, time=20, seed=7, threads=2)
+    b = csgfit.fit_range_points(points, time=20, seed=7, threads=2)
     assert a.document["tree"] == b.document["tree"]
     assert a.document["precedence_graph"] == b.document["precedence_graph"]
 
@@ -208,23 +208,23 @@ def test_bad_inputs_are_one_line(tmp_path):
     one_line_input_error(lambda: csgfit.fit_range([]), "no input")
     one_line_input_error(lambda: csgfit.fit_range(tmp_path / "missing.png"), "missing.png")
     one_line_input_error(lambda: csgfit.fit_range(42), "path")
-    one_line_input_error(lambda: csgfit.fit_points(np.zeros((100, 2))), "(n, 3)", "(100, 2)")
-    one_line_input_error(lambda: csgfit.fit_points(np.zeros((4, 3, 1))), "(n, 3)")
-    one_line_input_error(lambda: csgfit.fit_points([["a", "b", "c"]]), "points")
+    one_line_input_error(lambda: csgfit.fit_range_points(np.zeros((100, 2))), "(n, 3)", "(100, 2)")
+    one_line_input_error(lambda: csgfit.fit_range_points(np.zeros((4, 3, 1))), "(n, 3)")
+    one_line_input_error(lambda: csgfit.fit_range_points([["a", "b", "c"]]), "points")
     points, normals = box_and_cylinder(n=2000)
     nan = points.copy()
     nan[17, 1] = np.nan
-    one_line_input_error(lambda: csgfit.fit_points(nan), "points", "17", "finite")
-    one_line_input_error(lambda: csgfit.fit_points(points, normals[:10]), "normals", "10")
-    one_line_input_error(lambda: csgfit.fit_points(points[:6]), "too few points")
-    one_line_input_error(lambda: csgfit.fit_points(tmp_path / "part.stl"), "fit_range")
-    one_line_input_error(lambda: csgfit.fit_points(points, progress=3), "progress")
-    one_line_input_error(lambda: csgfit.fit_points(points, cancel=True), "CancelToken")
+    one_line_input_error(lambda: csgfit.fit_range_points(nan), "points", "17", "finite")
+    one_line_input_error(lambda: csgfit.fit_range_points(points, normals[:10]), "normals", "10")
+    one_line_input_error(lambda: csgfit.fit_range_points(points[:6]), "too few points")
+    one_line_input_error(lambda: csgfit.fit_range_points(tmp_path / "part.stl"), "fit_range")
+    one_line_input_error(lambda: csgfit.fit_range_points(points, progress=3), "progress")
+    one_line_input_error(lambda: csgfit.fit_range_points(points, cancel=True), "CancelToken")
 
 
 def test_cancel_returns_the_tree_so_far():
     points, _ = box_and_cylinder(seed=4)
     token = csgfit.CancelToken()
     token.cancel()
-    r = csgfit.fit_points(points, time=20, cancel=token)
+    r = csgfit.fit_range_points(points, time=20, cancel=token)
     assert r.stats.stop_reason == "cancelled"

@@ -17,10 +17,14 @@ with a ``morph`` parameter that OpenSCAD animates.
 An OpenSCAD program (seed 001): ``csgfit.optimize("part.scad")`` returns an OptimizeResult, the
 same solid from a smaller tree, as ``scad`` and ``csg`` text with its sizes and proximity.
 
-Range images and point clouds (seed 002): ``csgfit.fit_range("part.png")`` (a path or a list
-of views of one part) or ``csgfit.fit_points(xyz_array)`` return a RangeFitResult: the tree,
-its ``precedence_graph`` (subobjects, orders, signs), ``report()``, ``views``, ``patches``,
-``save_preview(png)`` and ``save(path)`` (.scad, .json, .step, .FCStd).
+Range images (seed 002): ``csgfit.fit_range("part.png")`` (a path or a list of views of one
+part; point files too) or ``csgfit.fit_range_points(xyz_array)`` return a RangeFitResult: the
+tree, its ``precedence_graph`` (subobjects, orders, signs), ``report()``, ``views``,
+``patches``, ``save_preview(png)`` and ``save(path)`` (.scad, .json, .step, .FCStd).
+
+Scanned point clouds (seed 004): ``csgfit.fit_points("scan.xyz", time=30)`` or
+``csgfit.fit_points(xyz_array)`` run ``csgfit points``' GP/ES with NURBS terminals and return a
+PointsFitResult: the tree, ``fitness`` (seed 004's terms), ``report()`` and ``save(path)``.
 
 Coordinates follow the project's contract: an image of W x H pixels with pixel size s covers
 [0, W*s] x [0, H*s] with y pointing up; angles are degrees counter-clockwise.
@@ -39,13 +43,16 @@ from .morphs import MorphResult, morph
 from .optimize import OptimizeResult, optimize
 from .options import (DEFAULT_PRIMITIVES_3D, PRIMITIVE_TYPES, PRIMITIVE_TYPES_3D, QUALITIES,
                       CancelToken, FitProgress, InputError, set_max_memory)
-from .ranges import (DEFAULT_PRIMITIVES_RANGE, GraphArc, GraphNode, PrecedenceGraph,
-                     RangeFitResult, SurfacePatch, ViewAgreement, fit_points, fit_range)
+from .points import DEFAULT_PRIMITIVES_POINTS, PointFitness, PointsFitResult, fit_points
+from .ranges import (DEFAULT_PRIMITIVES_RANGE, CloudResult, GraphArc, GraphNode,
+                     PrecedenceGraph, RangeFitResult, SurfacePatch, ViewAgreement,
+                     fit_range, fit_range_points)
 from .results import Alternative, FitResult, FitResult3D, FitStats, GridResult, Result
 from .tree import SIZE_FIELDS_3D, Node, Primitive, Primitive3D
 
 __all__ = [
     "DEFAULT_PRIMITIVES_3D",
+    "DEFAULT_PRIMITIVES_POINTS",
     "DEFAULT_PRIMITIVES_RANGE",
     "PRIMITIVE_TYPES",
     "PRIMITIVE_TYPES_3D",
@@ -53,6 +60,7 @@ __all__ = [
     "SIZE_FIELDS_3D",
     "Alternative",
     "CancelToken",
+    "CloudResult",
     "FitProgress",
     "FitResult",
     "FitResult3D",
@@ -64,6 +72,8 @@ __all__ = [
     "MorphResult",
     "Node",
     "OptimizeResult",
+    "PointFitness",
+    "PointsFitResult",
     "Primitive",
     "PrecedenceGraph",
     "Primitive3D",
@@ -76,6 +86,7 @@ __all__ = [
     "fit_mesh",
     "fit_points",
     "fit_range",
+    "fit_range_points",
     "fit_voxels",
     "load_bitmap",
     "load_json",

@@ -1,4 +1,4 @@
-"""Range images and point clouds in, RangeFitResult out (seed 002): fit_range, fit_points.
+"""Range images and point clouds in, RangeFitResult out (seed 002): fit_range, fit_range_points.
 
 A range fit reads surface patches off the points, recognises a signed primitive per patch
 group, orders them in a precedence graph (subobjects, orders: odd = added, even = subtracted)
@@ -104,8 +104,33 @@ class SurfacePatch:
     rms: float
 
 
-class RangeFitResult(Result):
-    """The outcome of fit_range / fit_points.
+class CloudResult(Result):
+    """What the fits to points share (RangeFitResult, PointsFitResult): the input files, the
+    points' bounding-box diagonal, and save() by the file's extension."""
+
+    SCAD_FN = 96
+
+    sources = property(lambda self: list(self._native.sources), doc="The input files.")
+    diagonal = property(lambda self: self._native.diagonal, doc="Points' bounding-box diagonal.")
+
+    def save(self, path: PathLike) -> str:
+        """Writes the result by the file's extension: .scad, .json, .step / .stp, or .FCStd
+        (the parametric FreeCAD tree, built by freecadcmd as the CLI does)."""
+        path = os.fsdecode(path)
+        ext = os.path.splitext(path)[1].lower()
+        if ext in (".scad", ".json"):
+            _write_text(path, self.to_scad() if ext == ".scad" else self.to_json())
+        elif ext in (".step", ".stp"):
+            self._native.save_step(path)
+        elif ext == ".fcstd":
+            _write_fcstd(self.to_json(), path)
+        else:
+            raise InputError(f"cannot write '{path}': expected .scad, .json, .step or .FCStd")
+        return path
+
+
+class RangeFitResult(CloudResult):
+    """The outcome of fit_range (and fit_points with search="range").
 
     tree: Node / Primitive3D objects in model units. stats: FitStats (iou = mean silhouette IoU
         of the views with a camera; excess / uncovered unused). document: the JSON document as
@@ -114,8 +139,6 @@ class RangeFitResult(Result):
     patch_of_point: int array, per merged point (views in order), its patch index or -1.
     sources: the input files. diagonal: of the points' bounding box.
     """
-
-    SCAD_FN = 96
 
     def __init__(self, native):
         document = json.loads(native.to_json())
@@ -130,8 +153,6 @@ class RangeFitResult(Result):
                                      float(p["rms"] or 0.0))
                         for p in document.get("patches") or []]
 
-    sources = property(lambda self: list(self._native.sources), doc="The input files.")
-    diagonal = property(lambda self: self._native.diagonal, doc="Points' bounding-box diagonal.")
     patch_of_point = property(lambda self: self._native.patch_of_point,
                               doc="Patch index per merged point (-1 = none).")
     has_preview = property(lambda self: self._native.has_preview,
@@ -147,21 +168,6 @@ class RangeFitResult(Result):
         `csgfit range --preview` does); InputError when the first input has no camera."""
         path = os.fsdecode(path)
         self._native.save_preview(path)
-        return path
-
-    def save(self, path: PathLike) -> str:
-        """Writes the result by the file's extension: .scad, .json, .step / .stp, or .FCStd
-        (the parametric FreeCAD tree, built by freecadcmd as the CLI does)."""
-        path = os.fsdecode(path)
-        ext = os.path.splitext(path)[1].lower()
-        if ext in (".scad", ".json"):
-            _write_text(path, self.to_scad() if ext == ".scad" else self.to_json())
-        elif ext in (".step", ".stp"):
-            self._native.save_step(path)
-        elif ext == ".fcstd":
-            _write_fcstd(self.to_json(), path)
-        else:
-            raise InputError(f"cannot write '{path}': expected .scad, .json, .step or .FCStd")
         return path
 
     def __repr__(self) -> str:
@@ -255,27 +261,38 @@ def fit_range(inputs: Union[PathLike, Sequence[PathLike]], *, time: float = 20.0
     return RangeFitResult(_csgfit.fit_range_files(paths, **intrinsics, **search))
 
 
-def fit_points(points, normals=None, *, time: float = 20.0, seed: int = 1, threads: int = 0,
-               primitives: Union[None, str, Sequence[str]] = None, progress: Progress = None,
-               cancel: Optional[CancelToken] = None) -> RangeFitResult:
-    """Fits a CSG tree to unorganised points of one part (the range pipeline without a
-    camera).
+def fit_range_points(points, normals=None, *, time: float = 20.0, seed: int = 1,
+                     threads: int = 0, primitives: Union[None, str, Sequence[str]] = None,
+                     progress: Progress = None,
+                     cancel: Optional[CancelToken] = None) -> RangeFitResult:
+    """Seed 002's fit of unorganised points of one part (the range pipeline without a camera):
+    what fit_points(search="range") runs.
 
     points: an (n, 3) array in model units, or a path to a .xyz / .ply file.
     normals: (n, 3) outward normals, or None to estimate them (principal components of the
         nearest neighbours, oriented consistently and outwards); points whose normal cannot be
         had are dropped. Other arguments as for fit_range.
     """
-    import numpy as np
-
     search = _search(primitives, time, threads, seed, progress, cancel)
     if isinstance(points, (str, bytes, os.PathLike)):
-        path = os.fsdecode(points)
-        if os.path.splitext(path)[1].lower() not in POINT_FILE_TYPES:
-            raise InputError(f"'{path}': fit_points reads .xyz or .ply (range images: fit_range)")
-        if normals is not None:
-            raise InputError("normals come from the file when points is a path")
-        return RangeFitResult(_csgfit.fit_range_files([path], **search))
+        return RangeFitResult(_csgfit.fit_range_files([point_file(points, normals)], **search))
+    return RangeFitResult(_csgfit.fit_point_arrays(*point_arrays(points, normals), **search))
+
+
+def point_file(points: PathLike, normals) -> str:
+    """The path of a point file given as `points`, or one InputError line."""
+    path = os.fsdecode(points)
+    if os.path.splitext(path)[1].lower() not in POINT_FILE_TYPES:
+        raise InputError(f"'{path}': fit_points reads .xyz or .ply (range images: fit_range)")
+    if normals is not None:
+        raise InputError("normals come from the file when points is a path")
+    return path
+
+
+def point_arrays(points, normals) -> Tuple:
+    """points and normals (or None) as contiguous float64 arrays, within the memory budget."""
+    import numpy as np
+
     arrays = []
     for name, a in (("points", points), ("normals", normals)):
         if a is None:
@@ -290,4 +307,4 @@ def fit_points(points, normals=None, *, time: float = 20.0, seed: int = 1, threa
             arrays.append(np.ascontiguousarray(a, dtype=np.float64))
         except (TypeError, ValueError) as e:
             raise InputError(f"{name}: {str(e).splitlines()[0]}") from None
-    return RangeFitResult(_csgfit.fit_point_arrays(arrays[0], arrays[1], **search))
+    return tuple(arrays)

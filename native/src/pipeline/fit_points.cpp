@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -212,6 +213,31 @@ PointsFitResult fit_points(const std::vector<RangeScan>& scans, const PointsFitO
   out.stats.score = out.terms.fitness;
   out.stats.seconds = elapsed();
   return out;
+}
+
+std::string fitness_report(const PointsFitResult& r) {
+  const FitnessTerms& f = r.terms;
+  char line[400];
+  std::string out;
+  std::snprintf(line, sizeof line, "scan: %s, %zu points; search: %s", r.scan == ScanKind::Top ? "top" : "all",
+                r.points, r.islands ? "gp" : "hill");
+  out += line;
+  if (r.islands) {
+    std::snprintf(line, sizeof line, " on %zu islands, %zu generations, from %s", r.islands, r.generations,
+                  r.first_tree.c_str());
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "\nfitness %.5f = distance %.5f + normals %.5f + curvature %.5f - nodes %zu\n",
+                f.fitness, f.distance, f.normals, f.curvature, f.nodes);
+  out += line;
+  std::snprintf(line, sizeof line, "mean distance %.4g (%.3f %% of the diagonal); floor term %.4f", f.mean_distance,
+                100 * f.mean_distance / r.diagonal, f.floor);
+  out += line;
+  if (r.patch_rms >= 0) {
+    std::snprintf(line, sizeof line, "; NURBS patch rms %.4g", r.patch_rms);
+    out += line;
+  }
+  return out + "\n";
 }
 
 }  // namespace csgfit

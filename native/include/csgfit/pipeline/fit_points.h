@@ -49,4 +49,7 @@ PointsFitResult fit_points(const std::vector<RangeScan>& scans, const PointsFitO
                            const ProgressCallback& progress = nullptr,
                            const std::atomic<bool>* cancel = nullptr);
 
+/// Seed 004's terms of the result, as `csgfit points --report` prints them (three lines).
+std::string fitness_report(const PointsFitResult& result);
+
 }  // namespace csgfit
