@@ -1,6 +1,7 @@
 #include "step_writer.h"
 
 #include <limits>
+#include <optional>
 
 #include <BRepAlgoAPI_BooleanOperation.hxx>
 #include <BRepBndLib.hxx>
@@ -342,31 +343,46 @@ TopoDS_Shape combine(NodeKind kind, std::vector<TopoDS_Shape> kids) {
       op.Build();
       if (!op.IsDone() || op.HasErrors()) continue;
       const TopoDS_Shape result = op.Shape();
-      if (volume_ok(args, tools, result)) return result;
+      if (volume_ok(args, tools, result)) return std::optional<TopoDS_Shape>(result);
     }
-    throw InputError(std::string("cannot write STEP: OpenCASCADE's ") + name +
-                     " gave a solid of impossible volume (write .scad or .json instead)");
+    return std::optional<TopoDS_Shape>();
   };
-  if (kind == NodeKind::Intersection) {
+  const auto refuse = [&] {
+    return InputError(std::string("cannot write STEP: OpenCASCADE's ") + name +
+                      " gave a solid of impossible volume (write .scad or .json instead)");
+  };
+  // One operand at a time: each step checked on its own. The n-ary run comes first (one
+  // General Fuse is faster and exact where it works); blocks that share faces, such as the
+  // extrusions of a scan's height levels all standing on one floor, can defeat it.
+  const auto pairwise = [&](auto make_op) {
     TopoDS_Shape acc = kids.front();
     for (std::size_t i = 1; i < kids.size(); ++i) {
       TopTools_ListOfShape a, b;
       a.Append(acc);
       b.Append(kids[i]);
-      BRepAlgoAPI_Common op;
-      acc = run(op, a, b);
+      auto op = make_op();
+      const std::optional<TopoDS_Shape> r = run(op, a, b);
+      if (!r) throw refuse();
+      acc = *r;
     }
     return acc;
-  }
+  };
+  if (kind == NodeKind::Intersection) return pairwise([] { return BRepAlgoAPI_Common(); });
   TopTools_ListOfShape args, tools;
   args.Append(kids.front());
   for (std::size_t i = 1; i < kids.size(); ++i) tools.Append(kids[i]);
+  std::optional<TopoDS_Shape> all;
   if (kind == NodeKind::Union) {
     BRepAlgoAPI_Fuse op;
-    return run(op, args, tools);
+    all = run(op, args, tools);
+  } else {
+    BRepAlgoAPI_Cut op;
+    all = run(op, args, tools);
   }
-  BRepAlgoAPI_Cut op;
-  return run(op, args, tools);
+  if (all) return *all;
+  if (kids.size() < 3) throw refuse();
+  if (kind == NodeKind::Union) return pairwise([] { return BRepAlgoAPI_Fuse(); });
+  return pairwise([] { return BRepAlgoAPI_Cut(); });
 }
 
 template <class N, class Leaf>

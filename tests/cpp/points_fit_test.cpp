@@ -8,6 +8,7 @@
 #include "csgfit/error.h"
 #include "csgfit/pipeline/fit_points.h"
 #include "csgfit/refine/nurbs_fit.h"
+#include "pipeline/height_levels.h"
 #include "search/gp_operators.h"
 
 using namespace csgfit;
@@ -165,6 +166,86 @@ TEST(GpSearch, ImprovesOnItsDetectedStart) {
   const FitnessTerms start = point_fitness(near, t, params.weights);
   EXPECT_GE(r.terms.fitness, start.fitness);
   EXPECT_LT(r.terms.mean_distance, 0.5 * start.mean_distance);
+}
+
+namespace {
+
+// A part seen from above on a 0.4 mm grid: the top of `solid` in each column (its highest
+// point in 0 .. 20 mm), normals up where flat and from the neighbouring heights elsewhere.
+template <class Solid>
+PointTarget top_scan(Solid solid, double sx, double sy) {
+  std::vector<Vec3> pts, nrm;
+  const auto top = [&](double x, double y) {
+    for (double z = 20; z > 0; z -= 0.01)
+      if (solid(x, y, z)) return z;
+    return 0.0;
+  };
+  for (double x = 0.2; x < sx; x += 0.4)
+    for (double y = 0.2; y < sy; y += 0.4) {
+      const double z = top(x, y);
+      if (z <= 0) continue;
+      const double zx = (top(x + 0.05, y) - top(x - 0.05, y)) / 0.1, zy = (top(x, y + 0.05) - top(x, y - 0.05)) / 0.1;
+      const double len = std::sqrt(zx * zx + zy * zy + 1);
+      pts.push_back({x, y, z});
+      nrm.push_back(std::fabs(zx) + std::fabs(zy) > 5 ? Vec3{0, 0, 1} : Vec3{-zx / len, -zy / len, 1 / len});
+    }
+  return make_point_target(pts, nrm, ScanKind::Top, 0);
+}
+
+// Volume IoU of a tree against a solid on a 0.25 mm grid over [0, sx] x [0, sy] x [0, 20].
+template <class Solid>
+double volume_iou(const Node3D& tree, Solid solid, double sx, double sy) {
+  double both = 0, either = 0;
+  for (double x = 0.125; x < sx; x += 0.25)
+    for (double y = 0.125; y < sy; y += 0.25)
+      for (double z = 0.125; z < 20; z += 0.25) {
+        const bool a = contains(tree, x, y, z), b = solid(x, y, z);
+        both += a && b, either += a || b;
+      }
+  return both / either;
+}
+
+}  // namespace
+
+// A plate with a boss and a pocket (levels 10, 16 and 5): each level's footprint, fitted in
+// 2D and extruded, rebuilds the part before any search.
+TEST(HeightLevels, FootprintsOfTheLevelsRebuildABlockPart) {
+  const auto part = [](double x, double y, double z) {
+    const bool plate = x <= 40 && y <= 24 && z <= 10;
+    const bool boss = std::hypot(x - 10, y - 12) <= 5 && z <= 16;
+    const bool pocket = x >= 24 && x <= 34 && y >= 7 && y <= 17 && z >= 5;
+    return (plate || boss) && !pocket;
+  };
+  const PointTarget t = top_scan(part, 40, 24);
+  LevelOptions o;
+  o.seconds = 3;
+  o.threads = 1;
+  const std::vector<Node3D> trees = level_trees(t, {}, o, nullptr);
+  ASSERT_EQ(trees.size(), 1u);  // no curved hole: no second tree
+  EXPECT_GT(volume_iou(trees[0], part, 40, 24), 0.95);
+  EXPECT_LE(trees[0].primitive_count(), 6u);
+  // Without boxes or cylinders to extrude there is no footprint to fit.
+  o.primitives = PrimitiveSet3D::parse("sphere");
+  EXPECT_TRUE(level_trees(t, {}, o, nullptr).empty());
+}
+
+// A dimple's hole is filled in its level's footprint (its bottom is curved), and the second
+// tree cuts the sphere a detected tree subtracts; the first has none.
+TEST(HeightLevels, ACurvedHoleTakesTheDetectedSphere) {
+  const auto part = [](double x, double y, double z) {
+    return x <= 30 && y <= 30 && z <= 15 && std::hypot(x - 15, y - 15, z - 19) > 10;
+  };
+  const PointTarget t = top_scan(part, 30, 30);
+  const Node3D detected = Node3D::op(NodeKind::Difference, {Node3D::leaf(Primitive3D::box(15, 15, 7.5, 30, 30, 15)),
+                                                            Node3D::leaf(Primitive3D::sphere(15, 15, 19, 10))});
+  LevelOptions o;
+  o.seconds = 2;
+  o.threads = 1;
+  const std::vector<Node3D> trees = level_trees(t, {detected}, o, nullptr);
+  ASSERT_EQ(trees.size(), 2u);
+  EXPECT_EQ(trees[0].primitive_count(), 1u);  // the filled footprint: one block
+  EXPECT_GT(volume_iou(trees[1], part, 30, 30), 0.95);  // a first tree: the search polishes it
+  EXPECT_GT(volume_iou(trees[1], part, 30, 30), volume_iou(trees[0], part, 30, 30));
 }
 
 TEST(NurbsFit, RecoversAPatchFromItsOwnSamples) {

@@ -14,6 +14,7 @@
 #include "csgfit/pipeline/fit_range.h"
 #include "csgfit/pipeline/fit_voxels.h"
 #include "csgfit/refine/nurbs_fit.h"
+#include "pipeline/height_levels.h"
 
 namespace csgfit {
 
@@ -102,6 +103,18 @@ std::vector<Node3D> detected_trees(const std::vector<RangeScan>& scans, const Po
   } catch (const InputError&) {
     return {};  // nothing recognised: the islands start from random terminals
   }
+}
+
+// The level trees stand on the table of a scan from above, on the lowest point of one all
+// around (a part resting on its bottom face; the fitness judges the trees of one that does not).
+LevelOptions level_options(const PointTarget& t, const PointsFitOptions& o) {
+  LevelOptions l;
+  l.floor = t.scan == ScanKind::Top ? o.floor : bounds_of(t.points).lo[2];
+  l.seconds = 0.1 * o.time_limit;
+  l.primitives = o.primitives;
+  l.threads = o.threads;
+  l.seed = o.seed;
+  return l;
 }
 
 // The voxels the points enclose, for the hill climbing, by parity along z: in each column the
@@ -198,8 +211,11 @@ PointsFitResult fit_points(const std::vector<RangeScan>& scans, const PointsFitO
     out.tree = hill_climb(target, o, std::max(0.1, o.time_limit - elapsed()), progress, cancel, out.stats);
     out.first_tree = "voxels";
   } else {
-    const std::vector<Node3D> first = detected_trees(scans, o, 0.15 * o.time_limit, cancel);
-    out.first_tree = first.empty() ? "random" : "detected";
+    const std::vector<Node3D> detected = detected_trees(scans, o, 0.15 * o.time_limit, cancel);
+    std::vector<Node3D> first = level_trees(target, detected, level_options(target, o), cancel);
+    out.first_tree = first.empty() ? (detected.empty() ? "random" : "detected")
+                                   : (detected.empty() ? "levels" : "levels and detected");
+    first.insert(first.end(), detected.begin(), detected.end());
     gp.time_limit = std::max(0.1, o.time_limit - elapsed());
     const GpResult r = run_gp(target, gp, first, patch ? &*patch : nullptr, progress, cancel);
     out.tree = r.tree;
