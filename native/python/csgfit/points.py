@@ -47,7 +47,8 @@ class PointsFitResult(CloudResult):
         "nurbs" with its degree, knots and control net). stats: FitStats (score = fitness).
     document: the JSON document as `csgfit points -o x.json` writes it (a dict).
     fitness: PointFitness. scan: "top" or "all". search: "gp" or "hill". islands, generations:
-    of the GP/ES (0 for the hill climbing). first_tree: "detected", "random" or "voxels".
+    of the GP/ES (0 for the hill climbing). first_tree: where the search started ("levels and
+    detected", "levels", "detected", "random" or "voxels").
     patch_rms: the NURBS patch's least-squares residual, None without a patch.
     """
 
