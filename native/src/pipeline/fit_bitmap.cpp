@@ -17,6 +17,7 @@
 #include "csgfit/optimise/snap2d.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose2d.h"
+#include "csgfit/seed/boundary_rectangles.h"
 #include "csgfit/seed/greedy2d.h"
 #include "pipeline/fit_request.h"
 #include "pipeline/problems.h"
@@ -70,6 +71,7 @@ SeedTrees2D seed_trees2d(const Bitmap& target, const FitOptions& options, const 
   GreedyOptions gopt;
   gopt.primitives = options.primitives;
   gopt.k = pb.k;
+  if (options.primitives.has(PrimitiveKind::Rectangle)) gopt.proposals = boundary_rectangles(target);
   s.greedy = ops.evaluate(greedy_cover(target, gopt), {});
   return s;
 }

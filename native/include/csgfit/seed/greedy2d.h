@@ -1,6 +1,8 @@
 // A second deterministic first tree, beside seed 003's: greedy residual cover.
 #pragma once
 
+#include <vector>
+
 #include "csgfit/model/bitmap.h"
 #include "csgfit/model/primitive2d.h"
 #include "csgfit/model/tree2d.h"
@@ -11,6 +13,9 @@ struct GreedyOptions {
   PrimitiveSet primitives = PrimitiveSet::all();
   double k = 25;
   int max_primitives = 64;
+  /// Primitives read off the input (boundary_rectangles): each is tried where it holds the
+  /// step's distance peak, beside the kinds placed at the peak.
+  std::vector<Primitive> proposals;
 };
 
 /// Builds a tree one primitive at a time: each step places every allowed kind at the largest
