@@ -2,7 +2,9 @@
 // GP operators keeping trees valid, the same seed giving the same tree, and bad clouds refused.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "csgfit/error.h"
@@ -10,6 +12,7 @@
 #include "csgfit/refine/nurbs_fit.h"
 #include "pipeline/height_levels.h"
 #include "search/gp_operators.h"
+#include "search/untie_points.h"
 
 using namespace csgfit;
 
@@ -326,4 +329,77 @@ TEST(FitPoints, BadCloudsAreOneLineErrors) {
   std::vector<Vec3> low = flat;
   for (Vec3& q : low) q[2] = -1;
   EXPECT_NE(fit_error(low, up).find("floor"), std::string::npos);
+}
+
+// A scan from above ends at its last row of points, half a spacing inside the edge: the box the
+// search leaves there (hull-tight) is widened to the edge, its top and bottom stay, and the
+// fitness is not lowered. All around, the walls' points pin every face: nothing moves.
+TEST(UntieAgainstPoints, MovesAScannedEdgeHalfASpacingPastTheLastRow) {
+  const PointTarget top = box_target(ScanKind::Top);
+  const FitnessWeights w;
+  Node3D tree = Node3D::leaf(Primitive3D::box(5, 3, 2, 9.5, 5.5, 4));
+  FitnessTerms terms = point_fitness(tree, top, w);
+  const double before = terms.fitness;
+  untie_against_points(tree, terms, top, w, std::chrono::steady_clock::now() + std::chrono::seconds(30));
+  const Primitive3D& p = tree.primitive;
+  EXPECT_NEAR(p.dims[0], 10, 0.05);
+  EXPECT_NEAR(p.dims[1], 6, 0.05);
+  EXPECT_NEAR(p.cz + 0.5 * p.dims[2], 4, 1e-6);
+  EXPECT_NEAR(p.cz - 0.5 * p.dims[2], 0, 1e-6);
+  EXPECT_GE(terms.fitness, before - 1e-12);
+
+  const PointTarget all = box_target(ScanKind::All);
+  tree = Node3D::leaf(kBox);
+  terms = point_fitness(tree, all, w);
+  untie_against_points(tree, terms, all, w, std::chrono::steady_clock::now() + std::chrono::seconds(30));
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(tree.primitive.dims[a], kBox.dims[a], 1e-6);
+  EXPECT_NEAR(tree.primitive.cx, kBox.cx, 1e-6);
+}
+
+// Two crosses (the point benchmark's kind of part) sampled all around on a jittered grid: the
+// level footprints end at the walls (the closing that joins the top's random points would
+// otherwise fill the corners between the arms), so each level is its bars.
+TEST(HeightLevels, WallsEndTheFootprintsOfAScanAllAround) {
+  const Quaternion turn = Quaternion::from_axis_angle(0, 0, 1, 45);
+  const std::vector<Primitive3D> bars = {
+      Primitive3D::box(20, 20, 4, 40, 8, 8), Primitive3D::box(20, 20, 4, 8, 40, 8),
+      Primitive3D::box(20, 20, 6, 32, 6, 12, turn), Primitive3D::box(20, 20, 6, 6, 32, 12, turn)};
+  const auto part = [&](double x, double y, double z) {
+    for (const Primitive3D& b : bars)
+      if (b.contains(x, y, z)) return true;
+    return false;
+  };
+  std::vector<Vec3> pts, nrm;
+  std::uint64_t state = 7;
+  const auto jitter = [&] {  // a small deterministic generator: the test needs no library's
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (static_cast<double>(state >> 11) / 9007199254740992.0 - 0.5) * 0.3;
+  };
+  for (const Primitive3D& b : bars) {
+    std::vector<Vec3> local, normals;
+    box_surface({-b.dims[0] / 2, -b.dims[1] / 2, -b.dims[2] / 2}, {b.dims[0] / 2, b.dims[1] / 2, b.dims[2] / 2}, 0.5,
+                local, normals);
+    const Mat3 m = b.rotation.matrix();
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      Vec3 q = local[i], n{};
+      for (int a = 0; a < 3; ++a)
+        if (std::fabs(normals[i][a]) < 0.5) q[a] += jitter();
+      Vec3 p{b.cx, b.cy, b.cz};
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) p[r] += m[r][c] * q[c], n[r] += m[r][c] * normals[i][c];
+      bool hidden = false;
+      for (const Primitive3D& o : bars)
+        hidden = hidden || (&o != &b && o.contains(p[0] - 0.01 * n[0], p[1] - 0.01 * n[1], p[2] - 0.01 * n[2]) &&
+                            o.contains(p[0] + 0.01 * n[0], p[1] + 0.01 * n[1], p[2] + 0.01 * n[2]));
+      if (!hidden && p[2] > 1e-9) pts.push_back(p), nrm.push_back(n);
+    }
+  }
+  const PointTarget t = make_point_target(pts, nrm, ScanKind::All, 0);
+  LevelOptions o;
+  o.seconds = 4;
+  o.threads = 1;
+  const std::vector<Node3D> trees = level_trees(t, {}, o, nullptr);
+  ASSERT_FALSE(trees.empty());
+  EXPECT_GT(volume_iou(trees[0], part, 40, 40), 0.95);
+  EXPECT_LE(trees[0].primitive_count(), 8u);  // 2 + 4 before the search prunes the hidden two
 }

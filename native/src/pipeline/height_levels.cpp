@@ -21,8 +21,30 @@ struct TopRaster {
   int close = 1;          // the closing's radius in cells
   std::size_t speck = 4;  // the most cells of a hole that is a gap between points
   std::vector<double> top;
+  // The highest point within half a spacing: a face's own cells, which no wall carves away.
+  std::vector<double> near_top;
+  // Points on walls (normal within 30 degrees of horizontal): x, y, the unit outward normal in
+  // x-y and z. A footprint ends at its walls, however far the closing reaches.
+  struct Wall {
+    double x, y, nx, ny, z;
+  };
+  std::vector<Wall> walls;
+  double carve = 0;  // how far outside a wall the footprint is carved
   double at(int i, int j) const { return top[static_cast<std::size_t>(i + nx * j)]; }
 };
+
+// Raises `grid`'s cells whose centres lie within `reach` of p to p's height.
+void reach_cells(TopRaster& r, std::vector<double>& grid, const Vec3& p, double reach) {
+  const int span = static_cast<int>(std::ceil(reach / r.cell));
+  const int ci = static_cast<int>((p[0] - r.x0) / r.cell), cj = static_cast<int>((p[1] - r.y0) / r.cell);
+  for (int j = std::max(0, cj - span); j <= std::min(r.ny - 1, cj + span); ++j)
+    for (int i = std::max(0, ci - span); i <= std::min(r.nx - 1, ci + span); ++i) {
+      const double dx = r.x0 + (i + 0.5) * r.cell - p[0], dy = r.y0 + (j + 0.5) * r.cell - p[1];
+      if (dx * dx + dy * dy > reach * reach) continue;
+      double& top = grid[static_cast<std::size_t>(i + r.nx * j)];
+      if (!(top >= p[2])) top = p[2];
+    }
+}
 
 TopRaster top_raster(const PointTarget& t) {
   const Bounds3 b = bounds_of(t.points);
@@ -39,24 +61,23 @@ TopRaster top_raster(const PointTarget& t) {
   // A scan from above samples a grid; one all around is sampled at random, with gaps of twice
   // the mean spacing between the points of a face.
   const double gaps = t.scan == ScanKind::Top ? 1.0 : 2.0;
-  const double reach = std::max(0.8 * t.spacing, r.cell);
+  // Far enough to join the random points of a face all around; the walls end what overshoots.
+  const double reach = std::max((t.scan == ScanKind::Top ? 0.8 : 1.5) * t.spacing, r.cell);
   r.close = std::max(1, static_cast<int>(std::lround(gaps * t.spacing / r.cell)));
+  r.carve = reach + r.close * r.cell;
   // Holes narrower than four spacings (a disc of radius two) are no features the points resolve.
   const double speck_area = 4 * kPi * t.spacing * t.spacing;
   r.speck = std::max<std::size_t>(4, static_cast<std::size_t>(speck_area / (r.cell * r.cell)));
-  const int span = static_cast<int>(std::ceil(reach / r.cell));
+  r.near_top.assign(r.top.size(), kNaN);
   for (std::size_t k = 0; k < t.points.size(); ++k) {
-    // A wall's or an underside's point is not the top of its column (scans all around).
-    if (t.normals[k][2] < 0.5) continue;
     const Vec3& p = t.points[k];
-    const int ci = static_cast<int>((p[0] - r.x0) / r.cell), cj = static_cast<int>((p[1] - r.y0) / r.cell);
-    for (int j = std::max(0, cj - span); j <= std::min(r.ny - 1, cj + span); ++j)
-      for (int i = std::max(0, ci - span); i <= std::min(r.nx - 1, ci + span); ++i) {
-        const double dx = r.x0 + (i + 0.5) * r.cell - p[0], dy = r.y0 + (j + 0.5) * r.cell - p[1];
-        if (dx * dx + dy * dy > reach * reach) continue;
-        double& top = r.top[static_cast<std::size_t>(i + r.nx * j)];
-        if (!(top >= p[2])) top = p[2];
-      }
+    const Vec3& n = t.normals[k];
+    const double horizontal = std::hypot(n[0], n[1]);
+    if (n[2] < 0.5 && horizontal > 0.85) r.walls.push_back({p[0], p[1], n[0] / horizontal, n[1] / horizontal, p[2]});
+    // A wall's or an underside's point is not the top of its column (scans all around).
+    if (n[2] < 0.5) continue;
+    reach_cells(r, r.top, p, reach);
+    reach_cells(r, r.near_top, p, std::max(0.5 * t.spacing, 0.75 * r.cell));
   }
   return r;
 }
@@ -105,6 +126,23 @@ bool at_lower_level(double top, double h, double tol, const std::vector<double>&
   return false;
 }
 
+// Clears the cells just outside the walls below level h (which bound its footprint) that no
+// point of a face at or above h covers itself: what the reach and the closing add past an edge.
+void carve_outside_walls(const TopRaster& r, double h, double tol, std::vector<char>& mask) {
+  const int span = static_cast<int>(std::ceil(r.carve / r.cell));
+  for (const TopRaster::Wall& w : r.walls) {
+    if (w.z > h - tol) continue;
+    const int ci = static_cast<int>((w.x - r.x0) / r.cell), cj = static_cast<int>((w.y - r.y0) / r.cell);
+    for (int j = std::max(0, cj - span); j <= std::min(r.ny - 1, cj + span); ++j)
+      for (int i = std::max(0, ci - span); i <= std::min(r.nx - 1, ci + span); ++i) {
+        const std::size_t c = static_cast<std::size_t>(i + r.nx * j);
+        if (!mask[c] || r.near_top[c] >= h - tol) continue;
+        const double dx = r.x0 + (i + 0.5) * r.cell - w.x, dy = r.y0 + (j + 0.5) * r.cell - w.y;
+        if (dx * dx + dy * dy <= r.carve * r.carve && dx * w.nx + dy * w.ny > 0) mask[c] = 0;
+      }
+  }
+}
+
 // Where the part reaches level h. An enclosed hole stays a hole when its bottom is flat (a
 // pocket, a lower level, the table); one whose bottom is curved (a dimple) is filled, for a
 // detected primitive to cut; specks are gaps between the points.
@@ -114,6 +152,7 @@ Bitmap footprint(const TopRaster& r, double h, double tol, const std::vector<dou
   for (std::size_t c = 0; c < mask.size(); ++c) mask[c] = r.top[c] >= h - tol;
   // A closing by a spacing: the gaps between the points of one face go, straight edges stay.
   mask = morph(morph(mask, r.nx, r.ny, r.close, true), r.nx, r.ny, r.close, false);
+  carve_outside_walls(r, h, tol, mask);
   Bitmap b(r.nx, r.ny);
   const auto set = [&](int i, int j) { b.set(i, r.ny - 1 - j); };
   const auto inside = [&](int i, int j) { return b.get(i, r.ny - 1 - j); };

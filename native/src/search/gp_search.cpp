@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "search/gp_operators.h"
+#include "search/untie_points.h"
 
 namespace csgfit {
 
@@ -151,8 +152,10 @@ GpResult run_gp(const PointTarget& target, const GpParams& params, const std::ve
                                  std::chrono::duration<double>(params.time_limit));
   GpResult out;
   out.stop = "generations";
+  // The last 6 % of the time is the pruning's and the untying's (see untie_against_points).
+  const double search_seconds = 0.94 * params.time_limit;
   while (out.generations < params.max_generations) {
-    if (seconds() >= params.time_limit) { out.stop = "time"; break; }
+    if (seconds() >= search_seconds) { out.stop = "time"; break; }
     if (cancel && cancel->load()) { out.stop = "cancelled"; break; }
     // Islands are independent within a generation: each has its own generator and subset.
     std::vector<std::thread> pool;
@@ -183,6 +186,7 @@ GpResult run_gp(const PointTarget& target, const GpParams& params, const std::ve
     if (f.fitness > best) best = f.fitness, out.tree = island.parents.front().tree, out.terms = f;
   }
   prune(out.tree, out.terms, target, params.weights);
+  untie_against_points(out.tree, out.terms, target, params.weights, deadline);
   out.seconds = seconds();
   return out;
 }
