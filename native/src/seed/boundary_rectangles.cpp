@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "csgfit/features/boundary_walls.h"
 
@@ -28,6 +29,31 @@ std::vector<Slab> slabs(const std::vector<BoundaryWall>& facing_n, const std::ve
   return out;
 }
 
+// The pixels of r, and those of them outside `target`, counted on r's rows only: a canvas-wide
+// count per candidate would cost the whole image ten thousand times a family.
+struct Coverage {
+  std::size_t area = 0, outside = 0;
+};
+
+// Counting stops once more than `allowed` pixels are outside: most candidates fail early.
+Coverage coverage(const Primitive& r, const Bitmap& target, Bitmap& scratch, double allowed) {
+  int begin = 0, end = 0;
+  row_range(r, target.height(), begin, end);
+  for (int row = begin; row < end; ++row) std::fill_n(scratch.row_words(row), scratch.words_per_row(), 0);
+  rasterize_into(r, scratch);
+  Coverage c;
+  for (int row = begin; row < end; ++row) {
+    const std::uint64_t* drawn = scratch.row_words(row);
+    const std::uint64_t* shape = target.row_words(row);
+    for (int w = 0; w < target.words_per_row(); ++w) {
+      c.area += static_cast<std::size_t>(__builtin_popcountll(drawn[w]));
+      c.outside += static_cast<std::size_t>(__builtin_popcountll(drawn[w] & ~shape[w]));
+    }
+    if (static_cast<double>(c.outside) > allowed) break;
+  }
+  return c;
+}
+
 struct Found {
   Primitive rectangle;
   Slab along, across;
@@ -50,11 +76,8 @@ std::vector<Primitive> boundary_rectangles(const Bitmap& target, std::size_t lim
       for (const Slab& b : across) {
         const double u = 0.5 * (a.lo + a.hi), v = 0.5 * (b.lo + b.hi);
         const Primitive r = Primitive::rectangle(u * c - v * s, u * s + v * c, a.hi - a.lo, b.hi - b.lo, fam.angle);
-        rasterize(r, drawn);
-        const std::size_t area = drawn.count();
-        if (area < 4) continue;
-        drawn.subtract(target);
-        if (static_cast<double>(drawn.count()) > excess * static_cast<double>(area)) continue;
+        const Coverage cov = coverage(r, target, drawn, excess * r.area() + 2);
+        if (cov.area < 4 || static_cast<double>(cov.outside) > excess * static_cast<double>(cov.area)) continue;
         found.push_back({r, a, b, f});
       }
   }
