@@ -42,9 +42,9 @@ std::vector<EdgeSample> edge_samples(const Bitmap& mask) {
   return out;
 }
 
-// Peaks of the histogram of normal angles modulo 90, each refined to the circular mean of the
-// samples within 5 degrees (on the 4-fold circle).
-std::vector<double> orientations(const std::vector<EdgeSample>& samples, std::size_t limit) {
+// Peaks of the histogram of normal angles modulo 90 (1-degree bins, smoothed over five), as bin
+// centres, strongest first: refined() makes them exact.
+std::vector<double> orientations(const std::vector<EdgeSample>& samples) {
   std::array<double, 90> bins{};
   for (const EdgeSample& s : samples) bins[static_cast<std::size_t>(wrap(s.angle, 90)) % 90] += 1;
   std::array<double, 90> smooth{};
@@ -62,20 +62,7 @@ std::vector<double> orientations(const std::vector<EdgeSample>& samples, std::si
   }
   std::sort(peaks.begin(), peaks.end(), std::greater<>());
   std::vector<double> out;
-  for (const auto& [v, bin] : peaks) {
-    double sx = 0, sy = 0;
-    for (const EdgeSample& s : samples) {
-      const double a = wrap(s.angle, 90), d = wrap(a - bin - 0.5 + 45, 90) - 45;
-      if (std::fabs(d) > 5) continue;
-      sx += std::cos(4 * a * kDeg), sy += std::sin(4 * a * kDeg);
-    }
-    const double angle = wrap(std::atan2(sy, sx) / kDeg / 4, 90);
-    const bool near_kept = std::any_of(out.begin(), out.end(), [&](double a) {
-      return std::fabs(wrap(a - angle + 45, 90) - 45) < 5;
-    });
-    if (!near_kept) out.push_back(angle);
-    if (out.size() == limit) break;
-  }
+  for (const auto& peak : peaks) out.push_back(peak.second + 0.5);
   return out;
 }
 
@@ -148,10 +135,11 @@ std::vector<BoundaryWall> walls_facing(const std::vector<EdgeSample>& samples, d
 std::vector<WallFamily> boundary_walls(const Bitmap& mask, std::size_t max_families) {
   const std::vector<EdgeSample> samples = edge_samples(mask);
   std::vector<WallFamily> out;
-  for (double coarse : orientations(samples, max_families)) {
+  for (double coarse : orientations(samples)) {
+    if (out.size() == max_families) break;
     WallFamily f;
     f.angle = refined(samples, refined(samples, coarse));
-    // Two histogram peaks may refine to one orientation.
+    // Neighbouring histogram peaks refine to one orientation.
     if (std::any_of(out.begin(), out.end(), [&](const WallFamily& o) {
           return std::fabs(wrap(o.angle - f.angle + 45, 90) - 45) < 3;
         }))

@@ -33,17 +33,24 @@ struct TopRaster {
   double at(int i, int j) const { return top[static_cast<std::size_t>(i + nx * j)]; }
 };
 
-// Raises `grid`'s cells whose centres lie within `reach` of p to p's height.
-void reach_cells(TopRaster& r, std::vector<double>& grid, const Vec3& p, double reach) {
-  const int span = static_cast<int>(std::ceil(reach / r.cell));
-  const int ci = static_cast<int>((p[0] - r.x0) / r.cell), cj = static_cast<int>((p[1] - r.y0) / r.cell);
+// Calls fn(cell, dx, dy) for each cell whose centre lies within `radius` of (x, y), (dx, dy)
+// the offset of its centre from that point.
+template <class Fn>
+void for_cells_within(const TopRaster& r, double x, double y, double radius, Fn fn) {
+  const int span = static_cast<int>(std::ceil(radius / r.cell));
+  const int ci = static_cast<int>((x - r.x0) / r.cell), cj = static_cast<int>((y - r.y0) / r.cell);
   for (int j = std::max(0, cj - span); j <= std::min(r.ny - 1, cj + span); ++j)
     for (int i = std::max(0, ci - span); i <= std::min(r.nx - 1, ci + span); ++i) {
-      const double dx = r.x0 + (i + 0.5) * r.cell - p[0], dy = r.y0 + (j + 0.5) * r.cell - p[1];
-      if (dx * dx + dy * dy > reach * reach) continue;
-      double& top = grid[static_cast<std::size_t>(i + r.nx * j)];
-      if (!(top >= p[2])) top = p[2];
+      const double dx = r.x0 + (i + 0.5) * r.cell - x, dy = r.y0 + (j + 0.5) * r.cell - y;
+      if (dx * dx + dy * dy <= radius * radius) fn(static_cast<std::size_t>(i + r.nx * j), dx, dy);
     }
+}
+
+// Raises `grid`'s cells whose centres lie within `reach` of p to p's height.
+void reach_cells(const TopRaster& r, std::vector<double>& grid, const Vec3& p, double reach) {
+  for_cells_within(r, p[0], p[1], reach, [&](std::size_t c, double, double) {
+    if (!(grid[c] >= p[2])) grid[c] = p[2];
+  });
 }
 
 TopRaster top_raster(const PointTarget& t) {
@@ -129,17 +136,11 @@ bool at_lower_level(double top, double h, double tol, const std::vector<double>&
 // Clears the cells just outside the walls below level h (which bound its footprint) that no
 // point of a face at or above h covers itself: what the reach and the closing add past an edge.
 void carve_outside_walls(const TopRaster& r, double h, double tol, std::vector<char>& mask) {
-  const int span = static_cast<int>(std::ceil(r.carve / r.cell));
   for (const TopRaster::Wall& w : r.walls) {
     if (w.z > h - tol) continue;
-    const int ci = static_cast<int>((w.x - r.x0) / r.cell), cj = static_cast<int>((w.y - r.y0) / r.cell);
-    for (int j = std::max(0, cj - span); j <= std::min(r.ny - 1, cj + span); ++j)
-      for (int i = std::max(0, ci - span); i <= std::min(r.nx - 1, ci + span); ++i) {
-        const std::size_t c = static_cast<std::size_t>(i + r.nx * j);
-        if (!mask[c] || r.near_top[c] >= h - tol) continue;
-        const double dx = r.x0 + (i + 0.5) * r.cell - w.x, dy = r.y0 + (j + 0.5) * r.cell - w.y;
-        if (dx * dx + dy * dy <= r.carve * r.carve && dx * w.nx + dy * w.ny > 0) mask[c] = 0;
-      }
+    for_cells_within(r, w.x, w.y, r.carve, [&](std::size_t c, double dx, double dy) {
+      if (!(r.near_top[c] >= h - tol) && dx * w.nx + dy * w.ny > 0) mask[c] = 0;
+    });
   }
 }
 

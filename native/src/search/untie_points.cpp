@@ -82,18 +82,17 @@ std::vector<Move> moves_of(const Primitive3D& p) {
 void untie_against_points(Node3D& tree, FitnessTerms& terms, const PointTarget& target,
                           const FitnessWeights& weights, std::chrono::steady_clock::time_point deadline) {
   const double step = 0.25 * target.spacing, reach = 3 * target.spacing;
-  const std::size_t leaf_count = leaves(tree).size();
-  for (std::size_t l = 0; l < leaf_count; ++l) {
-    for (const Move& move : moves_of(*leaves(tree)[l])) {
+  // Only parameters move, never the tree's shape: the leaves stay where they are.
+  for (Primitive3D* leaf : leaves(tree)) {
+    Primitive3D& p = *leaf;
+    for (const Move& move : moves_of(p)) {
       if (std::chrono::steady_clock::now() >= deadline) break;
-      const Primitive3D at = *leaves(tree)[l];
+      const Primitive3D at = p;
       const PointTarget near = near_target(at, move, target, reach);
       if (near.points.empty()) continue;
       const double base = point_fitness(tree, near, weights).fitness;
       const double tol = 1e-12 * std::max(1.0, std::fabs(base));
       const auto same = [&](double t) {
-        Primitive3D& p = *leaves(tree)[l];
-        p = at;
         move.apply(p, t);
         p.normalize();
         const bool flat = point_fitness(tree, near, weights).fitness >= base - tol;
@@ -126,7 +125,6 @@ void untie_against_points(Node3D& tree, FitnessTerms& terms, const PointTarget& 
       if (std::fabs(centre) < 1e-9) continue;
       // The steps may have stepped over a narrow dip between the two ends.
       if (!same(centre)) continue;
-      Primitive3D& p = *leaves(tree)[l];
       move.apply(p, centre);
       p.normalize();
     }
