@@ -85,7 +85,10 @@ void write_resolution(std::ostream& out, int fn) {
 void write_tabs(std::ostream& out, const std::vector<Tab>& tabs) {
   for (const Tab& tab : tabs) {
     out << "/* [" << tab.title << "] */\n";
-    for (const Var& v : tab.vars) out << v.name << " = " << v.value << "; // " << v.range << "\n";
+    for (const Var& v : tab.vars) {
+      if (!v.description.empty()) out << "// " << comment_safe(v.description) << "\n";
+      out << v.name << " = " << v.value << "; // " << v.range << "\n";
+    }
     out << "\n";
   }
 }

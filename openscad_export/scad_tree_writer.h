@@ -13,9 +13,9 @@
 
 namespace csgfit::scad {
 
-/// One Customizer parameter: `name = value; // range`.
+/// One Customizer parameter: `name = value; // range`, after `// description` when there is one.
 struct Var {
-  std::string name, value, range;
+  std::string name, value, range, description;
 };
 
 /// A Customizer tab: the parameters of one primitive.
@@ -66,7 +66,7 @@ class TreeWriter {
   static std::string add(Tab& tab, const std::string& prefix, const char* field, double v,
                          const std::string& range, int decimals) {
     const std::string name = prefix + "_" + field;
-    tab.vars.push_back({name, number(v, decimals), range});
+    tab.vars.push_back({name, number(v, decimals), range, {}});
     return name;
   }
 

@@ -4,11 +4,14 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "csgfit/error.h"
+#include "csgfit/model/shared_dimensions.h"
 #include "scad_format.h"
 #include "scad_tree_writer.h"
 
@@ -29,7 +32,27 @@ class Writer : public TreeWriter<Writer, Node> {
 
   std::string primitive(const Primitive& p);
 
+  /// Names each of the tree's shared dimensions once: its primitives use the shared parameter.
+  void share(const Node& tree) {
+    const std::vector<const Primitive*> ls = leaves(tree);
+    for (const SharedDimension& d : shared_dimensions(tree)) {
+      for (const DimensionUse& u : d.uses) shared_[{ls[u.leaf], u.field}] = d.name;
+      shared_list_.push_back({d, ls[d.uses.front().leaf]});
+    }
+  }
+
+  /// The tab of the shared dimensions (after geometry(), which numbers the primitives).
+  Tab shared_tab() const;
+
  private:
+  // `prefix_field`, or the shared parameter that stands for it.
+  std::string dimension(Tab& tab, const Primitive& p, DimensionField f, const std::string& prefix,
+                        double v, const std::string& range) {
+    const auto it = shared_.find({&p, f});
+    if (it != shared_.end()) return it->second;
+    return add(tab, prefix, std::string(field_name(f)).c_str(), v, range, decimals_);
+  }
+
   // Checks one solver value and converts it to model units.
   double model(double v, double scale, const char* what, const std::string& prim) const {
     const double m = v * scale;
@@ -58,10 +81,51 @@ class Writer : public TreeWriter<Writer, Node> {
   int decimals_;
   double extent_;
   bool morph_end_;
+  std::map<std::pair<const Primitive*, DimensionField>, std::string> shared_;
+  std::vector<std::pair<SharedDimension, const Primitive*>> shared_list_;
+  std::map<const Primitive*, int> numbers_;  // each written primitive's number in the file
 };
+
+// "circles 3 and 4", "rectangles 1, 6 and 7": the primitives a shared dimension stands for.
+std::string users_text(std::vector<int> numbers, const std::string& kinds) {
+  std::sort(numbers.begin(), numbers.end());
+  std::string out = kinds;
+  for (std::size_t i = 0; i < numbers.size(); ++i)
+    out += (i == 0 ? " " : i + 1 == numbers.size() ? " and " : ", ") + std::to_string(numbers[i]);
+  return out;
+}
+
+Tab Writer::shared_tab() const {
+  Tab tab{"Shared dimensions", {}};
+  static const char* const what[] = {"centre x", "centre y", "width", "height", "radius"};
+  for (const auto& [d, first] : shared_list_) {
+    const DimensionField field = d.uses.front().field;
+    const double v = field_value(*first, field) * frame_.pixel_size;
+    const bool position = field == DimensionField::CentreX || field == DimensionField::CentreY;
+    std::vector<int> users;
+    bool same_kind = true;
+    for (const auto& [p, n] : numbers_) {
+      const bool uses = std::any_of(d.uses.begin(), d.uses.end(), [&, p = p](const auto& u) {
+        const auto it = shared_.find({p, u.field});
+        return it != shared_.end() && it->second == d.name;
+      });
+      if (!uses) continue;
+      users.push_back(n);
+      same_kind = same_kind && p->kind == first->kind;
+    }
+    const bool rectangles = same_kind && first->kind == PrimitiveKind::Rectangle;
+    const std::string kinds = !same_kind ? "primitives" : rectangles ? "rectangles" : "circles";
+    const std::string title = rectangles ? "side" : what[static_cast<int>(field)];
+    tab.vars.push_back({d.name, number(v, decimals_),
+                        position ? position_range(v) : length_range(v),
+                        title + " of " + users_text(users, kinds)});
+  }
+  return tab;
+}
 
 std::string Writer::primitive(const Primitive& p) {
   ++count_;
+  numbers_[&p] = count_;
   const std::string num = std::to_string(count_);
   const double s = frame_.pixel_size;
   std::string prefix, title;
@@ -83,8 +147,8 @@ std::string Writer::primitive(const Primitive& p) {
 
   Tab tab{title, {}};
   const int d = decimals_;
-  const std::string vx = add(tab, prefix, "cx", cx, position_range(cx), d);
-  const std::string vy = add(tab, prefix, "cy", cy, position_range(cy), d);
+  const std::string vx = dimension(tab, p, DimensionField::CentreX, prefix, cx, position_range(cx));
+  const std::string vy = dimension(tab, p, DimensionField::CentreY, prefix, cy, position_range(cy));
   const std::string at = "translate([" + vx + ", " + vy + "]) ";
   // A zero angle is left out: a hand-written file would not rotate by 0 either.
   const bool rotated = (morph_end_ || number(angle, 4) != "0") && p.kind != PrimitiveKind::Circle;
@@ -92,14 +156,15 @@ std::string Writer::primitive(const Primitive& p) {
   std::string code;
   switch (p.kind) {
     case PrimitiveKind::Rectangle: {
-      const std::string vw = add(tab, prefix, "w", w, length_range(w), d);
-      const std::string vh = add(tab, prefix, "h", h, length_range(h), d);
+      const std::string vw = dimension(tab, p, DimensionField::Width, prefix, w, length_range(w));
+      const std::string vh = dimension(tab, p, DimensionField::Height, prefix, h, length_range(h));
       if (rotated) rot = "rotate(" + add(tab, prefix, "angle", angle, angle_range(angle), 4) + ") ";
       code = at + rot + "square([" + vw + ", " + vh + "], center = true);";
       break;
     }
     case PrimitiveKind::Circle: {
-      const std::string vr = add(tab, prefix, "r", w / 2, length_range(w / 2), d);
+      const std::string vr =
+          dimension(tab, p, DimensionField::Radius, prefix, w / 2, length_range(w / 2));
       code = at + "circle(r = fn_r(" + vr + "));";
       break;
     }
@@ -122,7 +187,7 @@ std::string Writer::primitive(const Primitive& p) {
       break;
     }
   }
-  tabs_.push_back(std::move(tab));
+  if (!tab.vars.empty()) tabs_.push_back(std::move(tab));
   return code;
 }
 
@@ -156,6 +221,8 @@ std::string scad_text(const Node& tree, const ModelFrame& frame, const ScadOptio
   extent *= frame.pixel_size;
 
   Writer writer(frame, decimals, extent, morph_b != nullptr);
+  // A morph's two ends share only what both share; not worth the file's complexity.
+  if (!morph_b) writer.share(tree);
   const std::string body = writer.geometry(tree, 1);
   std::vector<Tab> tabs_b;
   if (morph_b) {
@@ -199,8 +266,11 @@ std::string scad_text(const Node& tree, const ModelFrame& frame, const ScadOptio
   }
   if (morph_b)
     write_morph_tabs(out, writer.tabs(), tabs_b);
-  else
+  else {
+    const Tab shared = writer.shared_tab();
+    if (!shared.vars.empty()) write_tabs(out, {shared});
     write_tabs(out, writer.tabs());
+  }
   out << "/* [Hidden] */\n";
   out << "// Pixel size of the source image in mm; the dimensions above are already in mm.\n";
   out << "pixel_size = " << number(frame.pixel_size, 9) << ";\n";

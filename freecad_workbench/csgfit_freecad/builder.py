@@ -19,6 +19,7 @@ from typing import Any, Dict, List, Optional
 
 import FreeCAD as App
 
+from . import shared_dimensions
 from .part_objects import PARAMETRIC_TYPES, BuildError, PartTree
 
 SCHEMA = "csgfit/1"
@@ -108,13 +109,15 @@ def object_name(text: str) -> str:
 
 
 def _chosen_tree(result: Dict[str, Any], alternative: int):
-    """(tree, stats) of the best tree (-1) or of an alternative."""
-    if alternative == -1:
-        return result["tree"], result.get("stats") or {}
-    alts = result.get("alternatives") or []
-    if not 0 <= alternative < len(alts):
-        raise BuildError(f"no alternative {alternative} (the result has {len(alts)})")
-    return alts[alternative]["tree"], alts[alternative].get("stats") or {}
+    """(tree, stats, shared dimensions) of the best tree (-1) or of an alternative."""
+    chosen = result
+    if alternative != -1:
+        alts = result.get("alternatives") or []
+        if not 0 <= alternative < len(alts):
+            raise BuildError(f"no alternative {alternative} (the result has {len(alts)})")
+        chosen = alts[alternative]
+    shared = chosen.get("shared_dimensions") if dimension(result) == 2 else None
+    return chosen["tree"], chosen.get("stats") or {}, shared if isinstance(shared, list) else []
 
 
 def _parameter_sheet(doc, name: str, label: str, result: Dict[str, Any],
@@ -199,10 +202,10 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
     Raises BuildError on malformed input (nothing is left in the document then).
     """
     result = load_result(source)
-    tree, stats = _chosen_tree(result, alternative)
+    tree, stats, shared = _chosen_tree(result, alternative)
     scad = source.to_scad() if dimension(result) == 3 and hasattr(source, "to_scad") else None
     return assemble(doc, result, tree, stats, thickness=thickness, label=label,
-                    alternative=alternative, scad=scad, recompute=recompute)
+                    alternative=alternative, scad=scad, recompute=recompute, shared=shared)
 
 
 def extrusion_thickness(result: Dict[str, Any], thickness: Optional[float]) -> Optional[float]:
@@ -218,10 +221,11 @@ def extrusion_thickness(result: Dict[str, Any], thickness: Optional[float]) -> O
 def assemble(doc, result: Dict[str, Any], tree: Dict[str, Any], stats: Dict[str, Any], *,
              thickness: Optional[float] = None, label: Optional[str] = None,
              alternative: int = -1, scad: Optional[str] = None, recompute: bool = True,
-             make_tree=PartTree, extra_rows=()) -> BuildResult:
-    """build() once the tree is chosen: the group, its parameter sheet (plus extra_rows), the
-    Part objects of `tree` made by make_tree(doc, group, sheet, thickness expression or None)
-    (a PartTree; morph_builder passes its own), the record on the group.
+             make_tree=PartTree, extra_rows=(), shared=()) -> BuildResult:
+    """build() once the tree is chosen: the group, its parameter sheet (plus extra_rows and a
+    cell per shared dimension), the Part objects of `tree` made by make_tree(doc, group, sheet,
+    thickness expression or None) (a PartTree; morph_builder passes its own) with the shared
+    dimensions tied to their cells, the record on the group.
     Raises BuildError on malformed input (nothing is left in the document then)."""
     dim = dimension(result)
     t = extrusion_thickness(result, thickness)
@@ -232,10 +236,12 @@ def assemble(doc, result: Dict[str, Any], tree: Dict[str, Any], stats: Dict[str,
     name = "CSGFit_" + object_name(label)
     group = doc.addObject("App::DocumentObjectGroup", name)
     group.Label = label
-    sheet = _parameter_sheet(doc, name, label, result, t, extra_rows)
+    sheet = _parameter_sheet(doc, name, label, result, t,
+                             list(extra_rows) + shared_dimensions.sheet_rows(shared))
     builder = make_tree(doc, group, sheet, f"{sheet.Name}.thickness" if dim == 2 else None)
     try:
         root = builder.node(tree, "tree")
+        shared_dimensions.bind(sheet, shared, builder.primitives)
     except Exception:
         for obj in reversed(builder.created):
             doc.removeObject(obj.Name)

@@ -5,6 +5,7 @@ Mapping of a 2D result (model units, y up, angles in degrees counter-clockwise; 
 z = 0 to z = thickness):
 
   rectangle  Part::Box       Length = w, Width = h, Placement: centre at (cx, cy), rotated about z
+                             (its corner an expression of Length and Width: it stays centred)
   circle     Part::Cylinder  Radius = r, Placement at (cx, cy)
   ellipse    Part::Ellipse (MajorRadius, MinorRadius, Placement) + Part::Extrusion (Solid)
   triangle   Part::Wedge     base Xmin..Xmax at Ymin, apex X2min (= X2max) at Ymax
@@ -79,6 +80,17 @@ def _placement(cx: float, cy: float, angle: float, local: Tuple[float, float] = 
     x, y = local
     base = App.Vector(cx + c * x - s * y, cy + s * x + c * y, 0.0)
     return App.Placement(base, App.Rotation(App.Vector(0, 0, 1), angle))
+
+
+def _keep_box_centred(obj, cx: float, cy: float, angle: float) -> None:
+    """Ties a Part::Box's corner to its Length and Width so that it stays centred on (cx, cy)
+    when they change (as OpenSCAD's square(center = true) does): a corner-anchored box would
+    grow lopsided when the user edits a side."""
+    a = f"({angle!r})"
+    obj.setExpression("Placement.Base.x",
+                      f"{cx!r}mm - Length / 2 * cos{a} + Width / 2 * sin{a}")
+    obj.setExpression("Placement.Base.y",
+                      f"{cy!r}mm - Length / 2 * sin{a} - Width / 2 * cos{a}")
 
 
 def _vector(d: Dict[str, Any], key: str, n: Optional[int], where: str,
@@ -206,7 +218,9 @@ class PartTree:
         obj = self._add("Part::Box", "Rectangle")
         obj.Length, obj.Width = w, h
         obj.setExpression("Height", self.t)
-        obj.Placement = _placement(*_centre(d, where), _angle(d, where), (-w / 2, -h / 2))
+        centre, angle = _centre(d, where), _angle(d, where)
+        obj.Placement = _placement(*centre, angle, (-w / 2, -h / 2))
+        _keep_box_centred(obj, *centre, angle)
         return obj, obj
 
     def _circle(self, d, where):

@@ -86,6 +86,16 @@ TEST_F(ScadRoundTrip, SampleTreeExtruded) {
   EXPECT_GE(agreement(testing::sample_tree(), "sample_3d", 2.5), 0.995);
 }
 
+TEST_F(ScadRoundTrip, SharedDimensionsRenderAsTheTree) {
+  // Equal holes and a concentric pair: the shared parameters draw what the tree holds.
+  auto c = [](double x, double y, double r) { return Node::leaf(Primitive::circle(x, y, r)); };
+  const Node plate = Node::op(
+      NodeKind::Difference,
+      {Node::op(NodeKind::Union, {Node::leaf(Primitive::rectangle(40, 30, 60, 30)), c(75, 30, 15)}),
+       c(20.5, 30.5, 5.5), c(45.5, 30.5, 5.5), c(75, 30, 6.25)});
+  EXPECT_GE(agreement(plate, "shared", 0), 0.995);
+}
+
 TEST_F(ScadRoundTrip, RandomTrees) {
   std::mt19937_64 rng(2024);
   for (int i = 0; i < 8; ++i) {

@@ -172,3 +172,40 @@ TEST(ScadWriter, PrecisionFollowsPixelSize) {
 
 }  // namespace
 }  // namespace csgfit
+
+namespace csgfit {
+namespace {
+
+// A plate with two equal holes and a boss with a concentric hole.
+Node plate_with_equal_holes() {
+  auto c = [](double x, double y, double r) { return Node::leaf(Primitive::circle(x, y, r)); };
+  return Node::op(NodeKind::Difference,
+                  {Node::op(NodeKind::Union,
+                            {Node::leaf(Primitive::rectangle(40, 30, 60, 30)), c(75, 30, 15)}),
+                   c(20.5, 30.5, 5.5), c(45.5, 30.5, 5.5), c(75, 30, 6.25)});
+}
+
+TEST(ScadWriter, SharedDimensionsAreOneCustomizerParameter) {
+  const std::string scad = to_scad(plate_with_equal_holes(), ModelFrame{0.5, 0, "plate.png"});
+  EXPECT_TRUE(contains(scad, "/* [Shared dimensions] */"));
+  // Declared once (in model units) and used by both holes; the holes' tabs lose their radius.
+  EXPECT_EQ(occurrences(scad, "\nhole_r = 2.75;"), 1u) << scad;
+  EXPECT_EQ(occurrences(scad, "circle(r = fn_r(hole_r))"), 2u) << scad;
+  EXPECT_TRUE(lacks(scad, "circle_3_r"));
+  EXPECT_TRUE(lacks(scad, "circle_4_r"));
+  EXPECT_TRUE(contains(scad, "// radius of circles 3 and 4\n"));
+  // The boss and its hole are drawn about one centre.
+  EXPECT_EQ(occurrences(scad, "translate([centre_x, centre_y])"), 2u) << scad;
+  EXPECT_TRUE(lacks(scad, "circle_5_cx"));
+  EXPECT_TRUE(contains(scad, "circle_5_r = 3.125;"));
+}
+
+TEST(ScadWriter, MorphEndsShareNothing) {
+  const Node t = plate_with_equal_holes();
+  const std::string scad = to_scad_morph(t, t, ModelFrame{}, "b.png");
+  EXPECT_TRUE(lacks(scad, "Shared dimensions"));
+  EXPECT_TRUE(lacks(scad, "hole_r"));
+}
+
+}  // namespace
+}  // namespace csgfit

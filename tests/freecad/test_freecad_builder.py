@@ -175,15 +175,14 @@ def test_benchmark_tree_recomputes_to_a_valid_solid_matching_the_bitmap(doc, fit
 
 
 def _edited(prim, obj):
-    """(edit to apply to the FreeCAD object, the same edit on the JSON primitive)."""
+    """(edit to apply to the FreeCAD object, the same edit on the JSON primitive); None for a
+    dimension a shared cell drives (the cell is what a user edits then)."""
     p = dict(prim)
-    if obj.TypeId == "Part::Box":
-        a = math.radians(p.get("angle", 0.0))
-        p["w"] += 1.0  # Length grows from the box's corner: the centre moves half of it.
-        p["cx"] += 0.5 * math.cos(a)
-        p["cy"] += 0.5 * math.sin(a)
+    bound = {prop for prop, _ in obj.ExpressionEngine}
+    if obj.TypeId == "Part::Box" and "Length" not in bound:
+        p["w"] += 1.0  # the box stays centred, as the .scad's square(center = true)
         return (lambda: setattr(obj, "Length", obj.Length.Value + 1.0)), p
-    if obj.TypeId == "Part::Cylinder":
+    if obj.TypeId == "Part::Cylinder" and "Radius" not in bound:
         p["r"] += 0.5
         return (lambda: setattr(obj, "Radius", obj.Radius.Value + 0.5)), p
     return None, None
@@ -289,3 +288,92 @@ def test_cli_writes_fcstd(tmp_path, fitted):
     assert proc.returncode == 0, proc.stderr
     assert sorted(os.listdir(tmp_path)) == [out.name]
     _check_fcstd(out)
+
+
+# A plate with two equal holes and a boss with a concentric hole, as the fit writes it.
+SHARED = dict(
+    ALL_KINDS, source="plate.png",
+    canvas={"width_px": 100, "height_px": 60, "pixel_size": 1.0, "thickness": 2.0},
+    tree={"op": "difference", "children": [
+        {"op": "union", "children": [
+            {"type": "rectangle", "cx": 40, "cy": 30, "w": 60, "h": 30, "angle": 0},
+            {"type": "circle", "cx": 75, "cy": 30, "r": 15},
+        ]},
+        {"type": "circle", "cx": 20, "cy": 30, "r": 5},
+        {"type": "circle", "cx": 45, "cy": 30, "r": 5},
+        {"type": "circle", "cx": 75, "cy": 30, "r": 6},
+    ]},
+    shared_dimensions=[
+        {"name": "centre_x", "value": 75, "uses": [{"leaf": 1, "field": "cx"},
+                                                   {"leaf": 4, "field": "cx"}]},
+        {"name": "centre_y", "value": 30, "uses": [{"leaf": 1, "field": "cy"},
+                                                   {"leaf": 4, "field": "cy"}]},
+        {"name": "hole_r", "value": 5, "uses": [{"leaf": 2, "field": "r"},
+                                                {"leaf": 3, "field": "r"}]},
+    ],
+    stats={"iou": 1.0, "primitives": 5})
+
+
+def test_shared_radius_cell_changes_every_hole(doc):
+    built = builder.build(doc, SHARED)
+    assert builder.check_tree(doc, built.group) == []
+    v0 = built.root.Shape.Volume
+    assert float(built.sheet.get("hole_r")) == 5.0
+    built.sheet.set("hole_r", "=4mm")
+    doc.recompute()
+    assert builder.check_tree(doc, built.group) == []
+    radii = [built.primitives[i][1].Radius.Value for i in (2, 3)]
+    assert radii == [4.0, 4.0]
+    # Two holes shrink from r 5 to 4: the plate gains 2 * pi * (25 - 16) * thickness.
+    assert built.root.Shape.Volume == pytest.approx(v0 + 2 * math.pi * 9 * 2.0, rel=1e-9)
+
+
+def test_shared_centre_moves_concentric_circles_together(doc):
+    built = builder.build(doc, SHARED)
+    built.sheet.set("centre_x", "=70mm")
+    doc.recompute()
+    assert builder.check_tree(doc, built.group) == []
+    for i in (1, 4):
+        assert built.primitives[i][1].Placement.Base.x == pytest.approx(70.0)
+    # The boss and its hole moved together: the ring's volume is unchanged where it stays
+    # clear of the plate's holes, so the solid is the same as built from the edited JSON.
+    edited = copy.deepcopy(SHARED["tree"])
+    edited["children"][0]["children"][1]["cx"] = 70
+    edited["children"][3]["cx"] = 70
+    expected = H.static_shape(edited, 2.0)
+    assert built.root.Shape.Volume == pytest.approx(expected.Volume, rel=1e-6)
+
+
+def test_shared_dimension_a_member_no_longer_equals_is_not_tied(doc):
+    result = copy.deepcopy(SHARED)
+    result["tree"]["children"][2]["r"] = 5.5  # edited by hand after the fit
+    built = builder.build(doc, result)
+    built.sheet.set("hole_r", "=4mm")
+    doc.recompute()
+    assert built.primitives[2][1].Radius.Value == 4.0
+    assert built.primitives[3][1].Radius.Value == 5.5
+
+
+def test_shared_bar_width_keeps_both_bars_centred(doc):
+    # A cross of two bars 4 wide, one turned by 30 degrees, sharing the side cell.
+    result = copy.deepcopy(SHARED)
+    result["tree"] = {"op": "union", "children": [
+        {"type": "rectangle", "cx": 30, "cy": 30, "w": 4, "h": 40, "angle": 30},
+        {"type": "rectangle", "cx": 30, "cy": 30, "w": 40, "h": 4, "angle": 30}]}
+    result["shared_dimensions"] = [
+        {"name": "rect_side", "value": 4, "uses": [{"leaf": 0, "field": "w"},
+                                                   {"leaf": 1, "field": "h"}]}]
+    built = builder.build(doc, result)
+    built.sheet.set("rect_side", "=6mm")
+    doc.recompute()
+    assert builder.check_tree(doc, built.group) == []
+    bars = [built.primitives[i][1] for i in (0, 1)]
+    assert bars[0].Length.Value == 6.0 and bars[1].Width.Value == 6.0
+    for bar in bars:
+        centre = bar.Shape.BoundBox.Center
+        assert (centre.x, centre.y) == (pytest.approx(30.0), pytest.approx(30.0))
+    edited = copy.deepcopy(result["tree"])
+    edited["children"][0]["w"] = edited["children"][1]["h"] = 6
+    expected = H.static_shape(edited, 2.0)
+    assert built.root.Shape.Volume == pytest.approx(expected.Volume, rel=1e-6)
+    assert built.root.Shape.common(expected).Volume == pytest.approx(expected.Volume, rel=1e-6)

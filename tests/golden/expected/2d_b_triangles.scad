@@ -7,6 +7,10 @@
 // Segments per full circle
 segments = 96; // [12:1:360]
 
+/* [Shared dimensions] */
+// side of rectangles 2
+rect_side = 71.25; // [0:0.1:200]
+
 /* [Rectangle 1] */
 rect_1_cx = 66.2875; // [0:0.1:200]
 rect_1_cy = 54.6798; // [0:0.1:200]
@@ -17,8 +21,6 @@ rect_1_angle = 89.3584; // [0:0.1:360]
 /* [Rectangle 2] */
 rect_2_cx = 60.3946; // [0:0.1:200]
 rect_2_cy = 54.602; // [0:0.1:200]
-rect_2_w = 71; // [0:0.1:200]
-rect_2_h = 71.1791; // [0:0.1:200]
 rect_2_angle = 133; // [0:0.1:360]
 
 /* [Rectangle 3] */
@@ -64,7 +66,7 @@ module glyph_b_lower() {
     union() {
       intersection() {
         translate([rect_1_cx, rect_1_cy]) rotate(rect_1_angle) square([rect_1_w, rect_1_h], center = true);
-        translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_2_w, rect_2_h], center = true);
+        translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_side, rect_side], center = true);
       }
       translate([rect_3_cx, rect_3_cy]) square([rect_3_w, rect_3_h], center = true);
     }

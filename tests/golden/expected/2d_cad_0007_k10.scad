@@ -7,6 +7,10 @@
 // Segments per full circle
 segments = 96; // [12:1:360]
 
+/* [Shared dimensions] */
+// side of rectangles 3 and 4
+rect_side = 27.5; // [0:0.01:100]
+
 /* [Rectangle 1] */
 rect_1_cx = 33.3171; // [0:0.01:100]
 rect_1_cy = 45.8131; // [0:0.01:100]
@@ -23,8 +27,7 @@ rect_2_angle = 92; // [0:0.1:360]
 
 /* [Rectangle 3] */
 rect_3_cx = 22.2616; // [0:0.01:100]
-rect_3_cy = 23.5713; // [0:0.01:100]
-rect_3_w = 28; // [0:0.01:100]
+rect_3_cy = 23.5; // [0:0.01:100]
 rect_3_h = 4.2565; // [0:0.01:100]
 rect_3_angle = 88; // [0:0.1:360]
 
@@ -32,7 +35,6 @@ rect_3_angle = 88; // [0:0.1:360]
 rect_4_cx = 33.5; // [0:0.01:100]
 rect_4_cy = 36.5; // [0:0.01:100]
 rect_4_w = 10.3016; // [0:0.01:100]
-rect_4_h = 27; // [0:0.01:100]
 rect_4_angle = 87.2456; // [0:0.1:360]
 
 /* [Hidden] */
@@ -48,8 +50,8 @@ module cad_0007() {
   union() {
     translate([rect_1_cx, rect_1_cy]) rotate(rect_1_angle) square([rect_1_w, rect_1_h], center = true);
     translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_2_w, rect_2_h], center = true);
-    translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_3_w, rect_3_h], center = true);
-    translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
+    translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_side, rect_3_h], center = true);
+    translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_side], center = true);
   }
 }
 

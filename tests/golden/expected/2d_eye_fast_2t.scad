@@ -7,43 +7,43 @@
 // Segments per full circle
 segments = 96; // [12:1:360]
 
+/* [Shared dimensions] */
+// centre x of primitives 1 and 6
+centre_x = 64; // [0:0.1:200]
+// centre y of primitives 1 and 6
+centre_y = 64; // [0:0.1:200]
+// side of rectangles 2, 3, 4 and 5
+rect_side = 8; // [0:0.1:200]
+// side of rectangles 2 and 3
+rect_side2 = 80; // [0:0.1:200]
+// side of rectangles 4 and 5
+rect_side3 = 64.5; // [0:0.1:200]
+
 /* [Ellipse 1] */
-ellipse_1_cx = 64; // [0:0.1:200]
-ellipse_1_cy = 64; // [0:0.1:200]
 ellipse_1_rx = 32; // [0:0.1:200]
 ellipse_1_ry = 15.75; // [0:0.1:200]
 
 /* [Rectangle 2] */
 rect_2_cx = 89.5; // [0:0.1:200]
 rect_2_cy = 89.5; // [0:0.1:200]
-rect_2_w = 8; // [0:0.1:200]
-rect_2_h = 80; // [0:0.1:200]
 rect_2_angle = 45; // [0:0.1:360]
 
 /* [Rectangle 3] */
 rect_3_cx = 38.5; // [0:0.1:200]
 rect_3_cy = 38.5; // [0:0.1:200]
-rect_3_w = 8; // [0:0.1:200]
-rect_3_h = 80; // [0:0.1:200]
 rect_3_angle = 45; // [0:0.1:360]
 
 /* [Rectangle 4] */
 rect_4_cx = 38.5; // [0:0.1:200]
 rect_4_cy = 89.5; // [0:0.1:200]
-rect_4_w = 64.5; // [0:0.1:200]
-rect_4_h = 8; // [0:0.1:200]
 rect_4_angle = 45; // [0:0.1:360]
 
 /* [Rectangle 5] */
 rect_5_cx = 89.5; // [0:0.1:200]
 rect_5_cy = 38.5; // [0:0.1:200]
-rect_5_w = 64.5; // [0:0.1:200]
-rect_5_h = 8; // [0:0.1:200]
 rect_5_angle = 45; // [0:0.1:360]
 
 /* [Circle 6] */
-circle_6_cx = 64; // [0:0.1:200]
-circle_6_cy = 64; // [0:0.1:200]
 circle_6_r = 9; // [0:0.1:200]
 
 /* [Hidden] */
@@ -58,13 +58,13 @@ function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 module eye_in_diamond() {
   difference() {
     union() {
-      translate([ellipse_1_cx, ellipse_1_cy]) scale([ellipse_1_rx, ellipse_1_ry]) circle(r = fn_r(1));
-      translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_2_w, rect_2_h], center = true);
-      translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_3_w, rect_3_h], center = true);
-      translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
-      translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_5_w, rect_5_h], center = true);
+      translate([centre_x, centre_y]) scale([ellipse_1_rx, ellipse_1_ry]) circle(r = fn_r(1));
+      translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_side, rect_side2], center = true);
+      translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_side, rect_side2], center = true);
+      translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_side3, rect_side], center = true);
+      translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_side3, rect_side], center = true);
     }
-    translate([circle_6_cx, circle_6_cy]) circle(r = fn_r(circle_6_r));
+    translate([centre_x, centre_y]) circle(r = fn_r(circle_6_r));
   }
 }
 

@@ -7,6 +7,10 @@
 // Segments per full circle
 segments = 96; // [12:1:360]
 
+/* [Shared dimensions] */
+// side of rectangles 2
+rect_side = 17.5; // [0:0.1:200]
+
 /* [Ellipse 1] */
 ellipse_1_cx = 64.9402; // [0:0.1:200]
 ellipse_1_cy = 78; // [0:0.1:200]
@@ -17,8 +21,6 @@ ellipse_1_angle = 110; // [0:0.1:360]
 /* [Rectangle 2] */
 rect_2_cx = 63; // [0:0.1:200]
 rect_2_cy = 78; // [0:0.1:200]
-rect_2_w = 18; // [0:0.1:200]
-rect_2_h = 18; // [0:0.1:200]
 
 /* [Triangle 3] */
 tri_3_cx = 49.1247; // [0:0.1:200]
@@ -55,7 +57,7 @@ module glyph_r() {
   union() {
     difference() {
       translate([ellipse_1_cx, ellipse_1_cy]) rotate(ellipse_1_angle) scale([ellipse_1_rx, ellipse_1_ry]) circle(r = fn_r(1));
-      translate([rect_2_cx, rect_2_cy]) square([rect_2_w, rect_2_h], center = true);
+      translate([rect_2_cx, rect_2_cy]) square([rect_side, rect_side], center = true);
     }
     translate([tri_3_cx, tri_3_cy]) rotate(tri_3_angle) polygon([[-tri_3_w / 2, -tri_3_h / 2], [tri_3_w / 2, -tri_3_h / 2], [tri_3_apex * tri_3_w / 2, tri_3_h / 2]]);
     translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);

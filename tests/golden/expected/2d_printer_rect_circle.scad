@@ -7,10 +7,15 @@
 // Segments per full circle
 segments = 96; // [12:1:360]
 
+/* [Shared dimensions] */
+// side of rectangles 1, 5 and 7
+rect_side = 63.75; // [0:0.1:500]
+// side of rectangles 3 and 7
+rect_side2 = 20.8366; // [0:0.1:500]
+
 /* [Rectangle 1] */
 rect_1_cx = 64; // [0:0.1:500]
 rect_1_cy = 112; // [0:0.1:500]
-rect_1_w = 64; // [0:0.1:500]
 rect_1_h = 16; // [0:0.1:500]
 
 /* [Rectangle 2] */
@@ -22,7 +27,6 @@ rect_2_h = 88; // [0:0.1:500]
 /* [Rectangle 3] */
 rect_3_cx = 0.5; // [0:0.1:500]
 rect_3_cy = 91.3421; // [0:0.1:500]
-rect_3_w = 20.5; // [0:0.1:500]
 rect_3_h = 7; // [0:0.1:500]
 rect_3_angle = 45; // [0:0.1:360]
 
@@ -36,7 +40,6 @@ rect_4_angle = 147; // [0:0.1:360]
 /* [Rectangle 5] */
 rect_5_cx = 64; // [0:0.1:500]
 rect_5_cy = 36; // [0:0.1:500]
-rect_5_w = 64; // [0:0.1:500]
 rect_5_h = 24; // [0:0.1:500]
 
 /* [Rectangle 6] */
@@ -49,8 +52,6 @@ rect_6_angle = 85; // [0:0.1:360]
 /* [Rectangle 7] */
 rect_7_cx = -3; // [-500:0.1:500]
 rect_7_cy = 29.5625; // [0:0.1:500]
-rect_7_w = 63.7319; // [0:0.1:500]
-rect_7_h = 20.8366; // [0:0.1:500]
 rect_7_angle = 124.6335; // [0:0.1:360]
 
 /* [Circle 8] */
@@ -77,14 +78,14 @@ function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 module icon_printer() {
   difference() {
     union() {
-      translate([rect_1_cx, rect_1_cy]) square([rect_1_w, rect_1_h], center = true);
+      translate([rect_1_cx, rect_1_cy]) square([rect_side, rect_1_h], center = true);
       translate([rect_2_cx, rect_2_cy]) square([rect_2_w, rect_2_h], center = true);
     }
-    translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_3_w, rect_3_h], center = true);
+    translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_side2, rect_3_h], center = true);
     translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
-    translate([rect_5_cx, rect_5_cy]) square([rect_5_w, rect_5_h], center = true);
+    translate([rect_5_cx, rect_5_cy]) square([rect_side, rect_5_h], center = true);
     translate([rect_6_cx, rect_6_cy]) rotate(rect_6_angle) square([rect_6_w, rect_6_h], center = true);
-    translate([rect_7_cx, rect_7_cy]) rotate(rect_7_angle) square([rect_7_w, rect_7_h], center = true);
+    translate([rect_7_cx, rect_7_cy]) rotate(rect_7_angle) square([rect_side, rect_side2], center = true);
     translate([circle_8_cx, circle_8_cy]) circle(r = fn_r(circle_8_r));
     translate([rect_9_cx, rect_9_cy]) rotate(rect_9_angle) square([rect_9_w, rect_9_h], center = true);
   }

@@ -7,6 +7,14 @@
 // Segments per full circle
 segments = 96; // [12:1:360]
 
+/* [Shared dimensions] */
+// side of rectangles 2 and 10
+rect_side = 3.5; // [0:0.1:500]
+// side of rectangles 2 and 10
+rect_side2 = 68.5; // [0:0.1:500]
+// side of rectangles 11 and 12
+rect_side3 = 3.2152; // [0:0.1:500]
+
 /* [Triangle 1] */
 tri_1_cx = 64.5; // [0:0.1:500]
 tri_1_cy = 43.5; // [0:0.1:500]
@@ -17,8 +25,6 @@ tri_1_apex = 0; // [-4:0.01:4]
 /* [Rectangle 2] */
 rect_2_cx = 50.5; // [0:0.1:500]
 rect_2_cy = 27.25; // [0:0.1:500]
-rect_2_w = 3.5; // [0:0.1:500]
-rect_2_h = 68.5; // [0:0.1:500]
 rect_2_angle = 146.6529; // [0:0.1:360]
 
 /* [Triangle 3] */
@@ -75,22 +81,18 @@ tri_9_apex = -0.55; // [-4:0.01:4]
 /* [Rectangle 10] */
 rect_10_cx = 77.5; // [0:0.1:500]
 rect_10_cy = 27.25; // [0:0.1:500]
-rect_10_w = 3.5; // [0:0.1:500]
-rect_10_h = 68.5; // [0:0.1:500]
 rect_10_angle = 33.3471; // [0:0.1:360]
 
 /* [Rectangle 11] */
 rect_11_cx = 101.2131; // [0:0.1:500]
 rect_11_cy = 12.1393; // [0:0.1:500]
 rect_11_w = 19; // [0:0.1:500]
-rect_11_h = 3.2152; // [0:0.1:500]
 rect_11_angle = 40; // [0:0.1:360]
 
 /* [Rectangle 12] */
 rect_12_cx = 27.7167; // [0:0.1:500]
 rect_12_cy = 11.3333; // [0:0.1:500]
 rect_12_w = 18; // [0:0.1:500]
-rect_12_h = 3.3091; // [0:0.1:500]
 rect_12_angle = 141; // [0:0.1:360]
 
 /* [Triangle 13] */
@@ -183,7 +185,7 @@ module topopt_mbb_beam() {
       difference() {
         union() {
           translate([tri_1_cx, tri_1_cy]) polygon([[-tri_1_w / 2, -tri_1_h / 2], [tri_1_w / 2, -tri_1_h / 2], [tri_1_apex * tri_1_w / 2, tri_1_h / 2]]);
-          translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_2_w, rect_2_h], center = true);
+          translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_side, rect_side2], center = true);
           translate([tri_3_cx, tri_3_cy]) rotate(tri_3_angle) polygon([[-tri_3_w / 2, -tri_3_h / 2], [tri_3_w / 2, -tri_3_h / 2], [tri_3_apex * tri_3_w / 2, tri_3_h / 2]]);
           translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
           translate([ellipse_5_cx, ellipse_5_cy]) rotate(ellipse_5_angle) scale([ellipse_5_rx, ellipse_5_ry]) circle(r = fn_r(1));
@@ -193,9 +195,9 @@ module topopt_mbb_beam() {
         translate([tri_8_cx, tri_8_cy]) polygon([[-tri_8_w / 2, -tri_8_h / 2], [tri_8_w / 2, -tri_8_h / 2], [tri_8_apex * tri_8_w / 2, tri_8_h / 2]]);
         translate([tri_9_cx, tri_9_cy]) rotate(tri_9_angle) polygon([[-tri_9_w / 2, -tri_9_h / 2], [tri_9_w / 2, -tri_9_h / 2], [tri_9_apex * tri_9_w / 2, tri_9_h / 2]]);
       }
-      translate([rect_10_cx, rect_10_cy]) rotate(rect_10_angle) square([rect_10_w, rect_10_h], center = true);
-      translate([rect_11_cx, rect_11_cy]) rotate(rect_11_angle) square([rect_11_w, rect_11_h], center = true);
-      translate([rect_12_cx, rect_12_cy]) rotate(rect_12_angle) square([rect_12_w, rect_12_h], center = true);
+      translate([rect_10_cx, rect_10_cy]) rotate(rect_10_angle) square([rect_side, rect_side2], center = true);
+      translate([rect_11_cx, rect_11_cy]) rotate(rect_11_angle) square([rect_11_w, rect_side3], center = true);
+      translate([rect_12_cx, rect_12_cy]) rotate(rect_12_angle) square([rect_12_w, rect_side3], center = true);
       translate([tri_13_cx, tri_13_cy]) rotate(tri_13_angle) polygon([[-tri_13_w / 2, -tri_13_h / 2], [tri_13_w / 2, -tri_13_h / 2], [tri_13_apex * tri_13_w / 2, tri_13_h / 2]]);
       translate([ellipse_14_cx, ellipse_14_cy]) rotate(ellipse_14_angle) scale([ellipse_14_rx, ellipse_14_ry]) circle(r = fn_r(1));
       translate([rect_15_cx, rect_15_cy]) rotate(rect_15_angle) square([rect_15_w, rect_15_h], center = true);

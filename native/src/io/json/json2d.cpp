@@ -7,8 +7,10 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "csgfit/error.h"
+#include "csgfit/model/shared_dimensions.h"
 #include "io/input_file.h"
 #include "io/json/json_fields.h"
 
@@ -70,6 +72,24 @@ ojson node_to_json(const Node& n, double s, const std::string& where) {
       break;
   }
   return j;
+}
+
+// The tree's shared dimensions (shared_dimensions.h), for readers that build parametric models:
+// written from the values, never read back (the values are the truth).
+ojson shared_to_json(const Node& tree, double s) {
+  ojson out = ojson::array();
+  const std::vector<const Primitive*> ls = leaves(tree);
+  for (const SharedDimension& d : shared_dimensions(tree)) {
+    const DimensionUse& first = d.uses.front();
+    const double v = field_value(*ls[first.leaf], first.field) * s;
+    ojson uses = ojson::array();
+    for (const DimensionUse& u : d.uses)
+      uses.push_back(ojson{{"leaf", u.leaf}, {"field", std::string(field_name(u.field))}});
+    out.push_back(ojson{{"name", d.name},
+                        {"value", finite_field(v, "shared dimension " + d.name, "value")},
+                        {"uses", std::move(uses)}});
+  }
+  return out;
 }
 
 // ---- reading -----------------------------------------------------------------------------
@@ -275,13 +295,15 @@ std::string to_json(const FitResult& result, const ModelFrame& frame) {
                        {"thickness", frame.thickness}};
   doc["source"] = frame.source;
   doc["tree"] = node_to_json(result.tree, s, "tree");
+  doc["shared_dimensions"] = shared_to_json(result.tree, s);
   doc["stats"] = stats_to_json(result.stats);
   ojson alts = ojson::array();
   for (std::size_t i = 0; i < result.alternatives.size(); ++i) {
     const FitTree& a = result.alternatives[i];
     alts.push_back(
         ojson{{"tree", node_to_json(a.tree, s, "alternatives[" + std::to_string(i) + "].tree")},
-             {"stats", stats_to_json(a.stats)}});
+              {"shared_dimensions", shared_to_json(a.tree, s)},
+              {"stats", stats_to_json(a.stats)}});
   }
   doc["alternatives"] = std::move(alts);
   // Invalid UTF-8 in a file name must not abort the write; replace it.

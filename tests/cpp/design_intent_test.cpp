@@ -1,0 +1,156 @@
+// Design intent in 2D: near-equal radii and concentric centres made one (snap2d.h), and the
+// dimensions a tree then holds more than once named once (shared_dimensions.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <initializer_list>
+#include <vector>
+
+#include "csgfit/eval/evaluator2d.h"
+#include "csgfit/model/shared_dimensions.h"
+#include "csgfit/optimise/snap2d.h"
+
+namespace csgfit {
+namespace {
+
+Node leaf(const Primitive& p) { return Node::leaf(p); }
+
+// A plate with a boss on its right, two equal holes and a hole concentric with the boss.
+Node plate(double r_a, double r_b, double hole_cx, double hole_cy) {
+  Node plus = Node::op(NodeKind::Union, {leaf(Primitive::rectangle(40, 30, 60, 30)),
+                                         leaf(Primitive::circle(75, 30, 15))});
+  return Node::op(NodeKind::Difference,
+                  {plus, leaf(Primitive::circle(20.5, 30.5, r_a)),
+                   leaf(Primitive::circle(45.5, 30.5, r_b)),
+                   leaf(Primitive::circle(hole_cx, hole_cy, 6.25))});
+}
+
+const SharedDimension* find(const std::vector<SharedDimension>& dims, const std::string& name) {
+  for (const SharedDimension& d : dims)
+    if (d.name == name) return &d;
+  return nullptr;
+}
+
+// The leaves a shared dimension is used by, each with the field it stands for.
+std::vector<DimensionUse> uses(std::initializer_list<std::size_t> leaves, DimensionField f) {
+  std::vector<DimensionUse> out;
+  for (std::size_t i : leaves) out.push_back({i, f});
+  return out;
+}
+
+TEST(SharedDimensions, EqualHolesShareOneRadiusAndConcentricCirclesOneCentre) {
+  const auto dims = shared_dimensions(plate(5.5, 5.5, 75, 30));
+  ASSERT_EQ(dims.size(), 3u);
+  const SharedDimension* r = find(dims, "hole_r");
+  ASSERT_NE(r, nullptr);
+  EXPECT_EQ(r->uses, uses({2, 3}, DimensionField::Radius));
+  ASSERT_NE(find(dims, "centre_x"), nullptr);
+  ASSERT_NE(find(dims, "centre_y"), nullptr);
+  EXPECT_EQ(find(dims, "centre_x")->uses, uses({1, 4}, DimensionField::CentreX));
+  EXPECT_EQ(find(dims, "centre_y")->uses, uses({1, 4}, DimensionField::CentreY));
+}
+
+TEST(SharedDimensions, OnlyExactlyEqualValuesAreShared) {
+  EXPECT_TRUE(shared_dimensions(plate(5.5, 5.5001, 75.01, 30)).empty());
+}
+
+TEST(SharedDimensions, NamesSayHoleOrCircleAndCountGroups) {
+  // Two pairs of equal holes, and two equal circles that are added, not cut.
+  Node t = Node::op(NodeKind::Difference,
+                    {Node::op(NodeKind::Union, {leaf(Primitive::circle(10, 10, 8)),
+                                                leaf(Primitive::circle(40, 10, 8))}),
+                     leaf(Primitive::circle(10, 10.5, 2)), leaf(Primitive::circle(40, 10.5, 2)),
+                     leaf(Primitive::circle(25, 10, 1)), leaf(Primitive::circle(55, 10, 1))});
+  const auto dims = shared_dimensions(t);
+  ASSERT_NE(find(dims, "circle_r"), nullptr);
+  ASSERT_NE(find(dims, "hole_r"), nullptr);
+  ASSERT_NE(find(dims, "hole_r2"), nullptr);
+  EXPECT_EQ(find(dims, "circle_r")->uses, uses({0, 1}, DimensionField::Radius));
+  EXPECT_EQ(find(dims, "hole_r")->uses, uses({2, 3}, DimensionField::Radius));
+  EXPECT_EQ(find(dims, "hole_r2")->uses, uses({4, 5}, DimensionField::Radius));
+  EXPECT_EQ(subtracted_leaves(t), (std::vector<bool>{false, false, true, true, true, true}));
+}
+
+TEST(SharedDimensions, EqualRectangleSidesAreSharedWhicheverWayTheyAreTurned) {
+  // Two bars 4 wide, one standing and one lying, and a 12 x 12 square.
+  Node t = Node::op(NodeKind::Union, {leaf(Primitive::rectangle(10, 10, 4, 20)),
+                                      leaf(Primitive::rectangle(30, 10, 20, 4)),
+                                      leaf(Primitive::rectangle(50, 10, 12, 12))});
+  const auto dims = shared_dimensions(t);
+  ASSERT_EQ(dims.size(), 3u);
+  EXPECT_EQ(dims[0].name, "rect_side");
+  EXPECT_EQ(dims[0].uses, (std::vector<DimensionUse>{{0, DimensionField::Width},
+                                                      {1, DimensionField::Height}}));
+  EXPECT_EQ(dims[1].uses, (std::vector<DimensionUse>{{0, DimensionField::Height},
+                                                      {1, DimensionField::Width}}));
+  EXPECT_EQ(dims[2].uses, (std::vector<DimensionUse>{{2, DimensionField::Width},
+                                                      {2, DimensionField::Height}}));
+}
+
+// The drawn part: holes of radius 8 and a boss hole of 6.25 at the boss's centre.
+class DesignSnap : public ::testing::Test {
+ protected:
+  // Snaps `tree` against the drawn part; the snapped leaves, after checking the budget held.
+  std::vector<Primitive> snapped(Node& tree) {
+    TreeEvaluator ev(target, tree);
+    const double before = static_cast<double>(ev.mismatch().total());
+    snap_to_design_values(ev, PrimitiveSet::all(), budget);
+    EXPECT_LE(static_cast<double>(ev.mismatch().total()), before + budget);
+    std::vector<Primitive> out;
+    for (std::size_t i = 0; i < ev.leaf_count(); ++i) out.push_back(ev.leaf(i));
+    return out;
+  }
+
+  Bitmap target = render(plate(8, 8, 75, 30), 100, 60);
+  double budget = 0.002 * static_cast<double>(target.count());
+};
+
+TEST_F(DesignSnap, NearEqualHolesBecomeOneRadiusWithinTheBudget) {
+  Node tree = plate(7.9, 8.15, 75, 30);
+  const auto p = snapped(tree);
+  EXPECT_EQ(p[2].w, p[3].w);
+  EXPECT_NEAR(p[2].w / 2, 8.0, 0.25);
+  EXPECT_NE(find(shared_dimensions(tree), "hole_r"), nullptr);
+}
+
+TEST_F(DesignSnap, NearlyConcentricCirclesShareTheirCentre) {
+  Node tree = plate(8, 8, 75.3, 29.8);
+  const auto p = snapped(tree);
+  EXPECT_EQ(p[1].cx, p[4].cx);
+  EXPECT_EQ(p[1].cy, p[4].cy);
+  EXPECT_NE(find(shared_dimensions(tree), "centre_x"), nullptr);
+}
+
+TEST_F(DesignSnap, DifferentHolesStayDifferent) {
+  // 8 and 6.25 are two designed sizes: more than the 4 % that counts as the same.
+  Node tree = plate(8, 8, 75, 30);
+  const auto p = snapped(tree);
+  EXPECT_NE(p[2].w, p[4].w);
+}
+
+TEST_F(DesignSnap, AnEqualityThatCostsMoreThanTheBudgetIsNotMade) {
+  // Holes of 8 and 8.3 drawn: within 4 %, but one radius for both misses a ring of pixels.
+  const Bitmap drawn = render(plate(8, 8.3, 75, 30), 100, 60);
+  Node tree = plate(8, 8.3, 75, 30);
+  TreeEvaluator ev(drawn, tree);
+  snap_to_design_values(ev, PrimitiveSet::all(), 2.0);
+  EXPECT_NE(ev.leaf(2).w, ev.leaf(3).w);
+  EXPECT_LE(ev.mismatch().total(), 2u);
+}
+
+TEST(DesignSnapBars, NearEqualBarWidthsBecomeOneWhicheverWayTheyAreTurned) {
+  // A cross of two bars 6 px wide, fitted as 5.9 and 6.2.
+  const Node drawn = Node::op(NodeKind::Union, {leaf(Primitive::rectangle(30, 30, 6, 40)),
+                                                leaf(Primitive::rectangle(30, 30, 40, 6))});
+  const Bitmap target = render(drawn, 64, 64);
+  Node tree = Node::op(NodeKind::Union, {leaf(Primitive::rectangle(30, 30, 5.9, 40)),
+                                         leaf(Primitive::rectangle(30, 30, 40, 6.2))});
+  TreeEvaluator ev(target, tree);
+  snap_to_design_values(ev, PrimitiveSet::all(), 0.002 * static_cast<double>(target.count()));
+  EXPECT_EQ(ev.leaf(0).w, ev.leaf(1).h);
+  EXPECT_EQ(ev.leaf(0).w, 6.0);
+  EXPECT_EQ(ev.mismatch().total(), 0u);
+}
+
+}  // namespace
+}  // namespace csgfit
