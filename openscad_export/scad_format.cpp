@@ -2,6 +2,7 @@
 
 #include "scad_tree_writer.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -80,6 +81,27 @@ void write_resolution(std::ostream& out, int fn) {
   out << "/* [Resolution] */\n";
   out << "// Segments per full circle\n";
   out << "segments = " << fn << "; // [12:1:360]\n\n";
+}
+
+std::string users_text(std::vector<int> numbers, const std::string& kinds) {
+  std::sort(numbers.begin(), numbers.end());
+  std::string out = kinds;
+  for (std::size_t i = 0; i < numbers.size(); ++i)
+    out += (i == 0 ? " " : i + 1 == numbers.size() ? " and " : ", ") + std::to_string(numbers[i]);
+  return out;
+}
+
+std::string shared_title(DimensionField field, bool rectangles) {
+  if (rectangles) return "side";
+  switch (field) {
+    case DimensionField::CentreX: return "centre x";
+    case DimensionField::CentreY: return "centre y";
+    case DimensionField::Width: return "width";
+    case DimensionField::Height: return "height";
+    case DimensionField::Radius: return "radius";
+    case DimensionField::Length: return "height";
+  }
+  return "value";
 }
 
 void write_tabs(std::ostream& out, const std::vector<Tab>& tabs) {

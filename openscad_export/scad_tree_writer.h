@@ -3,10 +3,14 @@
 // of the file around them.
 #pragma once
 
+#include <algorithm>
+#include <map>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "csgfit/model/shared_dimensions.h"
 #include "csgfit/model/tree.h"
 #include "scad_format.h"
 #include "scad_writer.h"
@@ -24,12 +28,60 @@ struct Tab {
   std::vector<Var> vars;
 };
 
+/// "circles 3 and 4", "cylinders 1, 6 and 7": the primitives a shared dimension stands for.
+std::string users_text(std::vector<int> numbers, const std::string& kinds);
+
+/// What a shared dimension is, for its comment: "radius", "centre x", "side" (of rectangles).
+std::string shared_title(DimensionField field, bool rectangles);
+
 /// Writes a tree's geometry: unions and intersections flattened, the subtracted unions of a
 /// difference inlined (a - (b + c) = a - b - c), empty subtrees left out, one line per
-/// primitive as `Derived::primitive(const P&)` writes it (which adds the primitive's tab).
+/// primitive as `Derived::primitive(const P&)` writes it (which adds the primitive's tab and
+/// calls numbered()). Dimensions shared by several primitives (share()) are written once, in a
+/// tab of their own (shared_tab()), and used by name.
 template <typename Derived, typename NodeT>
 class TreeWriter {
+  using P = std::decay_t<decltype(NodeT::primitive)>;
+
  public:
+  /// Names each of the tree's shared dimensions once (shared_dimensions.h).
+  void share(const NodeT& tree) {
+    const std::vector<const P*> ls = leaves(tree);
+    for (const SharedDimension& d : shared_dimensions(tree)) {
+      for (const DimensionUse& u : d.uses) shared_[{ls[u.leaf], u.field}] = d.name;
+      shared_list_.push_back({d, ls[d.uses.front().leaf]});
+    }
+  }
+
+  /// The tab of the shared dimensions, values times `scale`, with a comment naming the
+  /// primitives that use each (after geometry(), which numbers them).
+  Tab shared_tab(double scale) const {
+    Tab tab{"Shared dimensions", {}};
+    const auto& self = *static_cast<const Derived*>(this);
+    for (const auto& [d, first] : shared_list_) {
+      const DimensionField field = d.uses.front().field;
+      const double v = field_value(*first, field) * scale;
+      const bool position = field == DimensionField::CentreX || field == DimensionField::CentreY;
+      std::vector<int> users;
+      bool same_kind = true;
+      for (const auto& [p, n] : numbers_) {
+        const bool uses = std::any_of(d.uses.begin(), d.uses.end(), [&, p = p](const auto& u) {
+          const auto it = shared_.find({p, u.field});
+          return it != shared_.end() && it->second == d.name;
+        });
+        if (!uses) continue;
+        users.push_back(n);
+        same_kind = same_kind && p->kind == first->kind;
+      }
+      const std::string kinds = same_kind ? Derived::plural(first->kind) : "primitives";
+      tab.vars.push_back({d.name, number(v, self.decimals()),
+                          position ? self.position_range(v) : self.length_range(v),
+                          shared_title(field, kinds == "rectangles") + " of " +
+                              users_text(users, kinds)});
+    }
+    return tab;
+  }
+
   std::string geometry(const NodeT& n, int indent) {
     const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
     switch (n.kind) {
@@ -70,8 +122,22 @@ class TreeWriter {
     return name;
   }
 
+  /// The shared parameter that stands for p's `field`, or nullptr.
+  const std::string* shared_name(const P& p, DimensionField field) const {
+    const auto it = shared_.find({&p, field});
+    return it == shared_.end() ? nullptr : &it->second;
+  }
+
+  /// Records p's number in the file (count_), for the shared tab's comments.
+  void numbered(const P& p) { numbers_[&p] = count_; }
+
   int count_ = 0;  // primitives written so far: the number in their names
   std::vector<Tab> tabs_;
+
+ private:
+  std::map<std::pair<const P*, DimensionField>, std::string> shared_;
+  std::vector<std::pair<SharedDimension, const P*>> shared_list_;
+  std::map<const P*, int> numbers_;
 
  private:
   std::string block(const std::string& head, const std::vector<const NodeT*>& kids, int indent) {

@@ -32,26 +32,26 @@ class Writer : public TreeWriter<Writer, Node> {
 
   std::string primitive(const Primitive& p);
 
-  /// Names each of the tree's shared dimensions once: its primitives use the shared parameter.
-  void share(const Node& tree) {
-    const std::vector<const Primitive*> ls = leaves(tree);
-    for (const SharedDimension& d : shared_dimensions(tree)) {
-      for (const DimensionUse& u : d.uses) shared_[{ls[u.leaf], u.field}] = d.name;
-      shared_list_.push_back({d, ls[d.uses.front().leaf]});
-    }
-  }
-
-  /// The tab of the shared dimensions (after geometry(), which numbers the primitives).
-  Tab shared_tab() const;
-
  private:
+  friend class TreeWriter<Writer, Node>;
+
   // `prefix_field`, or the shared parameter that stands for it.
   std::string dimension(Tab& tab, const Primitive& p, DimensionField f, const std::string& prefix,
                         double v, const std::string& range) {
-    const auto it = shared_.find({&p, f});
-    if (it != shared_.end()) return it->second;
+    if (const std::string* name = shared_name(p, f)) return *name;
     return add(tab, prefix, std::string(field_name(f)).c_str(), v, range, decimals_);
   }
+
+  static std::string plural(PrimitiveKind k) {
+    switch (k) {
+      case PrimitiveKind::Rectangle: return "rectangles";
+      case PrimitiveKind::Circle: return "circles";
+      case PrimitiveKind::Ellipse: return "ellipses";
+      case PrimitiveKind::Triangle: return "triangles";
+    }
+    return "primitives";
+  }
+  int decimals() const { return decimals_; }
 
   // Checks one solver value and converts it to model units.
   double model(double v, double scale, const char* what, const std::string& prim) const {
@@ -81,51 +81,11 @@ class Writer : public TreeWriter<Writer, Node> {
   int decimals_;
   double extent_;
   bool morph_end_;
-  std::map<std::pair<const Primitive*, DimensionField>, std::string> shared_;
-  std::vector<std::pair<SharedDimension, const Primitive*>> shared_list_;
-  std::map<const Primitive*, int> numbers_;  // each written primitive's number in the file
 };
-
-// "circles 3 and 4", "rectangles 1, 6 and 7": the primitives a shared dimension stands for.
-std::string users_text(std::vector<int> numbers, const std::string& kinds) {
-  std::sort(numbers.begin(), numbers.end());
-  std::string out = kinds;
-  for (std::size_t i = 0; i < numbers.size(); ++i)
-    out += (i == 0 ? " " : i + 1 == numbers.size() ? " and " : ", ") + std::to_string(numbers[i]);
-  return out;
-}
-
-Tab Writer::shared_tab() const {
-  Tab tab{"Shared dimensions", {}};
-  static const char* const what[] = {"centre x", "centre y", "width", "height", "radius"};
-  for (const auto& [d, first] : shared_list_) {
-    const DimensionField field = d.uses.front().field;
-    const double v = field_value(*first, field) * frame_.pixel_size;
-    const bool position = field == DimensionField::CentreX || field == DimensionField::CentreY;
-    std::vector<int> users;
-    bool same_kind = true;
-    for (const auto& [p, n] : numbers_) {
-      const bool uses = std::any_of(d.uses.begin(), d.uses.end(), [&, p = p](const auto& u) {
-        const auto it = shared_.find({p, u.field});
-        return it != shared_.end() && it->second == d.name;
-      });
-      if (!uses) continue;
-      users.push_back(n);
-      same_kind = same_kind && p->kind == first->kind;
-    }
-    const bool rectangles = same_kind && first->kind == PrimitiveKind::Rectangle;
-    const std::string kinds = !same_kind ? "primitives" : rectangles ? "rectangles" : "circles";
-    const std::string title = rectangles ? "side" : what[static_cast<int>(field)];
-    tab.vars.push_back({d.name, number(v, decimals_),
-                        position ? position_range(v) : length_range(v),
-                        title + " of " + users_text(users, kinds)});
-  }
-  return tab;
-}
 
 std::string Writer::primitive(const Primitive& p) {
   ++count_;
-  numbers_[&p] = count_;
+  numbered(p);
   const std::string num = std::to_string(count_);
   const double s = frame_.pixel_size;
   std::string prefix, title;
@@ -267,7 +227,7 @@ std::string scad_text(const Node& tree, const ModelFrame& frame, const ScadOptio
   if (morph_b)
     write_morph_tabs(out, writer.tabs(), tabs_b);
   else {
-    const Tab shared = writer.shared_tab();
+    const Tab shared = writer.shared_tab(frame.pixel_size);
     if (!shared.vars.empty()) write_tabs(out, {shared});
     write_tabs(out, writer.tabs());
   }

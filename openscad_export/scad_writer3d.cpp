@@ -50,6 +50,23 @@ class Writer : public TreeWriter<Writer, Node3D> {
   const std::vector<std::string>& notes() const { return notes_; }
 
  private:
+  friend class TreeWriter<Writer, Node3D>;
+
+  static std::string plural(PrimitiveKind3D k) {
+    switch (k) {
+      case PrimitiveKind3D::Box: return "boxes";
+      case PrimitiveKind3D::Sphere: return "spheres";
+      case PrimitiveKind3D::Cylinder: return "cylinders";
+      case PrimitiveKind3D::Cone: return "cones";
+      case PrimitiveKind3D::Ellipsoid: return "ellipsoids";
+      case PrimitiveKind3D::Torus: return "tori";
+      case PrimitiveKind3D::TriangularPrism: return "prisms";
+      case PrimitiveKind3D::Nurbs: return "NURBS patches";
+    }
+    return "primitives";
+  }
+  int decimals() const { return decimals_; }
+
   static double check(double v, const char* what, const std::string& prim) {
     if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
       throw InputError("cannot write .scad: " + prim + " has a non-finite or out-of-range " +
@@ -85,6 +102,12 @@ class Writer : public TreeWriter<Writer, Node3D> {
 
   std::string length(Tab& tab, const std::string& prefix, const char* field, double v) {
     return add(tab, prefix, field, v, length_range(v), decimals_);
+  }
+  // A length, or the shared parameter that stands for p's `shared` field.
+  std::string length(Tab& tab, const Primitive3D& p, DimensionField shared,
+                     const std::string& prefix, const char* field, double v) {
+    if (const std::string* name = shared_name(p, shared)) return *name;
+    return length(tab, prefix, field, v);
   }
 
   // "rotate([a, b, c]) " with a variable per non-zero angle, or "" for no rotation.
@@ -130,6 +153,7 @@ class Writer : public TreeWriter<Writer, Node3D> {
 
 std::string Writer::primitive(const Primitive3D& p) {
   ++count_;
+  numbered(p);
   const std::string num = std::to_string(count_);
   std::string prefix, title;
   switch (p.kind) {
@@ -162,14 +186,17 @@ std::string Writer::primitive(const Primitive3D& p) {
       break;
     }
     case PrimitiveKind3D::Sphere: {
-      const std::string r = length(tab, prefix, "r", check_size(s[0], "radius", what));
+      const std::string r =
+          length(tab, p, DimensionField::Radius, prefix, "r", check_size(s[0], "radius", what));
       code += "sphere(r = fn_sr(" + r + "));";
       spheres_ = true;
       break;
     }
     case PrimitiveKind3D::Cylinder: {
-      const std::string r = length(tab, prefix, "r", check_size(s[0], "radius", what));
-      const std::string h = length(tab, prefix, "h", check_size(s[2], "height", what));
+      const std::string r =
+          length(tab, p, DimensionField::Radius, prefix, "r", check_size(s[0], "radius", what));
+      const std::string h =
+          length(tab, p, DimensionField::Length, prefix, "h", check_size(s[2], "height", what));
       code += "cylinder(h = " + h + ", r = fn_r(" + r + "), center = true);";
       circles_ = true;
       break;
@@ -219,7 +246,7 @@ std::string Writer::primitive(const Primitive3D& p) {
     }
     case PrimitiveKind3D::Nurbs: code += nurbs(p, prefix, what); break;
   }
-  tabs_.push_back(std::move(tab));
+  if (!tab.vars.empty()) tabs_.push_back(std::move(tab));
   return code;
 }
 
@@ -286,6 +313,7 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
     }
   }
   Writer writer = morph_b ? Writer(decimals, extent, &turns, false) : Writer(decimals, extent);
+  if (!morph_b) writer.share(tree);  // as in 2D: a morph's ends share nothing
   const std::string body = writer.geometry(tree, 1);
   std::vector<Tab> tabs_b;
   if (morph_b) {
@@ -308,8 +336,11 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
   write_resolution(out, options.fn);
   if (morph_b)
     write_morph_tabs(out, writer.tabs(), tabs_b);
-  else
+  else {
+    const Tab shared = writer.shared_tab(1.0);
+    if (!shared.vars.empty()) write_tabs(out, {shared});
     write_tabs(out, writer.tabs());
+  }
   out << "/* [Hidden] */\n";
   out << "$fn = segments;\n\n";
   if (morph_b) write_morph_values(out, writer.tabs(), tabs_b);

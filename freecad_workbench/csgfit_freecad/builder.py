@@ -116,7 +116,7 @@ def _chosen_tree(result: Dict[str, Any], alternative: int):
         if not 0 <= alternative < len(alts):
             raise BuildError(f"no alternative {alternative} (the result has {len(alts)})")
         chosen = alts[alternative]
-    shared = chosen.get("shared_dimensions") if dimension(result) == 2 else None
+    shared = chosen.get("shared_dimensions")
     return chosen["tree"], chosen.get("stats") or {}, shared if isinstance(shared, list) else []
 
 

@@ -24,8 +24,9 @@ Placement is centre + R * (local offset of that corner or base), rotation = the 
 
   box        Part::Box        Length, Width, Height = size; offset (-x/2, -y/2, -z/2)
   sphere     Part::Sphere     Radius
-  cylinder   Part::Cylinder   Radius, Height; offset (0, 0, -h/2)
-  cone       Part::Cone       Radius1 (bottom) = r1, Radius2 = r2, Height; offset (0, 0, -h/2)
+  cylinder   Part::Cylinder   Radius, Height; offset (0, 0, -h/2), an expression of Height (it
+                              stays centred when the height changes)
+  cone       Part::Cone       Radius1 (bottom) = r1, Radius2 = r2, Height; offset as a cylinder's
                               (a Part::Cylinder when r1 == r2: OCC refuses such a cone)
   ellipsoid  Part::Ellipsoid  Radius2 = rx, Radius3 = ry, Radius1 = rz (FreeCAD's Radius1 is z)
   torus      Part::Torus      Radius1 = R, Radius2 = r
@@ -91,6 +92,14 @@ def _keep_box_centred(obj, cx: float, cy: float, angle: float) -> None:
                       f"{cx!r}mm - Length / 2 * cos{a} + Width / 2 * sin{a}")
     obj.setExpression("Placement.Base.y",
                       f"{cy!r}mm - Length / 2 * sin{a} - Width / 2 * cos{a}")
+
+
+def _keep_centred_on_axis(obj, centre) -> None:
+    """Ties a Part::Cylinder's or Cone's base to its Height so that it stays centred on
+    `centre` along its axis when the height changes (as the .scad's center = true does)."""
+    axis = obj.Placement.Rotation.multVec(App.Vector(0, 0, 1))
+    for c, a, name in zip(centre, (axis.x, axis.y, axis.z), "xyz"):
+        obj.setExpression(f"Placement.Base.{name}", f"{c!r}mm - Height / 2 * ({a!r})")
 
 
 def _vector(d: Dict[str, Any], key: str, n: Optional[int], where: str,
@@ -276,6 +285,7 @@ class PartTree:
         obj = self._add("Part::Cylinder", "Cylinder")
         obj.Radius, obj.Height = r, h
         obj.Placement = _placement3d(d, where, (0.0, 0.0, -h / 2))
+        _keep_centred_on_axis(obj, _vector(d, "center", 3, where))
         return obj, obj
 
     def _cone(self, d, where):
@@ -289,6 +299,7 @@ class PartTree:
         obj = self._add("Part::Cone", "Cone")
         obj.Radius1, obj.Radius2, obj.Height = r1, r2, h
         obj.Placement = _placement3d(d, where, (0.0, 0.0, -h / 2))
+        _keep_centred_on_axis(obj, _vector(d, "center", 3, where))
         return obj, obj
 
     def _ellipsoid(self, d, where):

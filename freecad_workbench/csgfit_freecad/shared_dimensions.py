@@ -1,6 +1,6 @@
-"""A 2D result's shared dimensions (the JSON's "shared_dimensions": one radius for a row of
-equal holes, one centre for concentric circles) as spreadsheet cells that every primitive using
-them refers to, so that editing one cell changes each of those primitives.
+"""A result's shared dimensions (the JSON's "shared_dimensions": one radius for a row of equal
+holes, one centre for concentric circles, one height for holes through a plate) as spreadsheet
+cells that every primitive using them refers to, so that editing one cell changes each of them.
 
 A member whose value in the tree no longer equals the shared value (a hand-edited JSON) keeps
 its own number: the tree's values are the truth.
@@ -21,9 +21,12 @@ _PROPERTY = {
     ("ellipse", "cy"): "Placement.Base.y",
     ("rectangle", "w"): "Length",
     ("rectangle", "h"): "Width",
+    ("sphere", "r"): "Radius",
+    ("cylinder", "r"): "Radius",
+    ("cylinder", "h"): "Height",
 }
 
-_TITLES = {"r": "radius", "cx": "centre x", "cy": "centre y", "w": "side", "h": "side"}
+_FIELDS = {field for _, field in _PROPERTY}
 
 
 def _uses(entry: Dict[str, Any]) -> List[Tuple[int, str]]:
@@ -31,7 +34,7 @@ def _uses(entry: Dict[str, Any]) -> List[Tuple[int, str]]:
     out = []
     for use in entry.get("uses") or []:
         if (isinstance(use, dict) and isinstance(use.get("leaf"), int)
-                and use.get("field") in _TITLES):
+                and use.get("field") in _FIELDS):
             out.append((use["leaf"], use["field"]))
     return out
 
@@ -48,8 +51,8 @@ def sheet_rows(shared: Sequence[Any]) -> List[Tuple[str, str, str]]:
     rows = []
     for entry in shared:
         if _valid(entry):
-            title = f"Shared {_TITLES[_uses(entry)[0][1]]} {entry['name']} (mm)"
-            rows.append((title, f"={float(entry['value'])!r}mm", entry["name"]))
+            rows.append((f"Shared {entry['name']} (mm)", f"={float(entry['value'])!r}mm",
+                         entry["name"]))
     return rows
 
 

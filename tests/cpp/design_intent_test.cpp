@@ -154,3 +154,38 @@ TEST(DesignSnapBars, NearEqualBarWidthsBecomeOneWhicheverWayTheyAreTurned) {
 
 }  // namespace
 }  // namespace csgfit
+
+namespace csgfit {
+namespace {
+
+Node3D leaf3d(const Primitive3D& p) { return Node3D::leaf(p); }
+
+TEST(SharedDimensions3D, EqualHolesThroughAPlateShareTheirRadiusAndHeight) {
+  const Node3D plate = Node3D::op(
+      NodeKind::Difference, {leaf3d(Primitive3D::box(25, 15, 3, 50, 30, 6)),
+                             leaf3d(Primitive3D::cylinder(12, 15, 3, 4, 10)),
+                             leaf3d(Primitive3D::cylinder(38, 15, 3, 4, 10)),
+                             leaf3d(Primitive3D::sphere(25, 15, 8, 4))});
+  const auto dims = shared_dimensions(plate);
+  ASSERT_EQ(dims.size(), 2u);
+  // A ball cut with the holes' radius: one radius for all three, a "round" one.
+  EXPECT_EQ(dims[0].name, "round_r");
+  EXPECT_EQ(dims[0].uses.size(), 3u);
+  EXPECT_EQ(dims[1].name, "hole_h");
+  EXPECT_EQ(dims[1].uses, (std::vector<DimensionUse>{{1, DimensionField::Length},
+                                                     {2, DimensionField::Length}}));
+}
+
+TEST(SharedDimensions3D, NamesSayHoleCylinderOrSphere) {
+  const Node3D t = Node3D::op(
+      NodeKind::Union, {leaf3d(Primitive3D::sphere(0, 0, 0, 2)), leaf3d(Primitive3D::sphere(9, 0, 0, 2)),
+                        leaf3d(Primitive3D::cylinder(0, 9, 0, 1, 5)),
+                        leaf3d(Primitive3D::cylinder(9, 9, 0, 1, 6))});
+  const auto dims = shared_dimensions(t);
+  ASSERT_EQ(dims.size(), 2u);
+  EXPECT_EQ(dims[0].name, "sphere_r");
+  EXPECT_EQ(dims[1].name, "cyl_r");
+}
+
+}  // namespace
+}  // namespace csgfit

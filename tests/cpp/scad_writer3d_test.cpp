@@ -208,3 +208,23 @@ TEST(ScadWriter3DRoundTrip, DumpFilesForOpenScad) {
 
 }  // namespace
 }  // namespace csgfit
+
+namespace csgfit {
+namespace {
+
+TEST(ScadWriter3D, EqualHolesShareOneRadiusAndHeightParameter) {
+  auto leaf = [](const Primitive3D& p) { return Node3D::leaf(p); };
+  const Node3D plate = Node3D::op(
+      NodeKind::Difference, {leaf(Primitive3D::box(25, 15, 3, 50, 30, 6)),
+                             leaf(Primitive3D::cylinder(12, 15, 3, 4, 10)),
+                             leaf(Primitive3D::cylinder(38, 15, 3, 4, 10))});
+  const std::string scad = to_scad(plate, ScadOptions3D{});
+  EXPECT_TRUE(contains(scad, "/* [Shared dimensions] */\n// radius of cylinders 2 and 3\nhole_r = 4;"));
+  EXPECT_TRUE(contains(scad, "// height of cylinders 2 and 3\nhole_h = 10;"));
+  EXPECT_EQ(occurrences(scad, "cylinder(h = hole_h, r = fn_r(hole_r), center = true)"), 2u) << scad;
+  EXPECT_TRUE(lacks(scad, "cyl_2_r"));
+  EXPECT_TRUE(lacks(scad, "cyl_3_h"));
+}
+
+}  // namespace
+}  // namespace csgfit

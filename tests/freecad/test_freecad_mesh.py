@@ -201,3 +201,49 @@ def test_cli_mesh_writes_fcstd_that_reopens_and_recomputes(tmp_path):
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1
     assert sorted(os.listdir(out_dir)) == [out.name]
+
+
+# A plate with two equal through holes, as csgfit mesh writes it (shared_dimensions from snap3d).
+HOLED_PLATE_3D = {
+    "schema": "csgfit/1", "dimension": 3, "units": "mm", "source": "plate.stl",
+    "grid": {"nx": 60, "ny": 40, "nz": 12, "origin": [-2, -2, -2], "voxel_size": 1.0},
+    "tree": {"op": "difference", "children": [
+        {"type": "box", "center": [25, 15, 3], "size": [50, 30, 6]},
+        {"type": "cylinder", "center": [12, 15, 3], "r": 4, "h": 10},
+        {"type": "cylinder", "center": [38, 15, 3], "rotation": [0, 0, 0, 1], "r": 4, "h": 10},
+    ]},
+    "shared_dimensions": [
+        {"name": "hole_r", "value": 4, "uses": [{"leaf": 1, "field": "r"},
+                                                {"leaf": 2, "field": "r"}]},
+        {"name": "hole_h", "value": 10, "uses": [{"leaf": 1, "field": "h"},
+                                                 {"leaf": 2, "field": "h"}]},
+    ],
+    "stats": {"iou": 1.0, "primitives": 3},
+}
+
+
+def test_shared_hole_radius_cell_resizes_both_holes_in_3d(doc):
+    built = builder.build(doc, HOLED_PLATE_3D)
+    assert builder.check_tree(doc, built.group) == []
+    assert built.root.Shape.Volume == pytest.approx(50 * 30 * 6 - 2 * math.pi * 16 * 6, rel=1e-6)
+    built.sheet.set("hole_r", "=3mm")
+    doc.recompute()
+    assert builder.check_tree(doc, built.group) == []
+    assert [built.primitives[i][1].Radius.Value for i in (1, 2)] == [3.0, 3.0]
+    assert built.root.Shape.Volume == pytest.approx(50 * 30 * 6 - 2 * math.pi * 9 * 6, rel=1e-6)
+
+
+def test_shared_height_keeps_cylinders_centred(doc):
+    # Holes 4 tall, centred in the plate: blind on both faces until the cell makes them 10.
+    result = copy.deepcopy(HOLED_PLATE_3D)
+    for leaf in result["tree"]["children"][1:]:
+        leaf["h"] = 4
+    result["shared_dimensions"][1]["value"] = 4
+    built = builder.build(doc, result)
+    assert built.root.Shape.Volume == pytest.approx(50 * 30 * 6 - 2 * math.pi * 16 * 4, rel=1e-6)
+    built.sheet.set("hole_h", "=10mm")
+    doc.recompute()
+    for i in (1, 2):
+        box = built.primitives[i][1].Shape.BoundBox
+        assert (box.ZMin, box.ZMax) == (pytest.approx(-2.0), pytest.approx(8.0))
+    assert built.root.Shape.Volume == pytest.approx(50 * 30 * 6 - 2 * math.pi * 16 * 6, rel=1e-6)

@@ -10,7 +10,8 @@ namespace csgfit {
 
 namespace {
 
-void mark_subtracted(const Node& n, bool subtracted, std::vector<bool>& out) {
+template <typename P>
+void mark_subtracted(const CsgNode<P>& n, bool subtracted, std::vector<bool>& out) {
   if (n.kind == NodeKind::Primitive) {
     out.push_back(subtracted);
     return;
@@ -25,8 +26,8 @@ bool is_round(PrimitiveKind k) { return k == PrimitiveKind::Circle || k == Primi
 
 // Uses grouped by a key; groups of one are dropped, the rest ordered by their first use so that
 // names follow the order of the file.
-template <typename Key, typename KeyOf>
-std::vector<std::vector<DimensionUse>> equal_groups(const std::vector<const Primitive*>& ls,
+template <typename Key, typename P, typename KeyOf>
+std::vector<std::vector<DimensionUse>> equal_groups(const std::vector<const P*>& ls,
                                                     std::initializer_list<DimensionField> fields,
                                                     KeyOf key_of) {
   std::map<Key, std::vector<DimensionUse>> by_key;
@@ -61,6 +62,7 @@ std::string_view field_name(DimensionField field) {
     case DimensionField::Width: return "w";
     case DimensionField::Height: return "h";
     case DimensionField::Radius: return "r";
+    case DimensionField::Length: return "h";
   }
   return "?";
 }
@@ -72,15 +74,32 @@ double field_value(const Primitive& p, DimensionField field) {
     case DimensionField::Width: return p.w;
     case DimensionField::Height: return p.h;
     case DimensionField::Radius: return 0.5 * p.w;
+    case DimensionField::Length: return 0;
   }
   return 0;
 }
 
-std::vector<bool> subtracted_leaves(const Node& tree) {
+double field_value(const Primitive3D& p, DimensionField field) {
+  switch (field) {
+    case DimensionField::CentreX: return p.cx;
+    case DimensionField::CentreY: return p.cy;
+    case DimensionField::Radius: return p.dims[0];
+    case DimensionField::Length: return p.dims[2];
+    case DimensionField::Width:
+    case DimensionField::Height: return 0;
+  }
+  return 0;
+}
+
+template <typename P>
+std::vector<bool> subtracted_leaves(const CsgNode<P>& tree) {
   std::vector<bool> out;
   mark_subtracted(tree, false, out);
   return out;
 }
+
+template std::vector<bool> subtracted_leaves(const Node&);
+template std::vector<bool> subtracted_leaves(const Node3D&);
 
 std::vector<SharedDimension> shared_dimensions(const Node& tree) {
   const std::vector<const Primitive*> ls = leaves(tree);
@@ -112,6 +131,32 @@ std::vector<SharedDimension> shared_dimensions(const Node& tree) {
                                                        : std::nullopt;
            }))
     out.push_back({names.next("rect_side"), std::move(g)});
+  return out;
+}
+
+std::vector<SharedDimension> shared_dimensions(const Node3D& tree) {
+  const std::vector<const Primitive3D*> ls = leaves(tree);
+  const std::vector<bool> holes = subtracted_leaves(tree);
+  auto all = [&](const std::vector<DimensionUse>& g, auto pred) {
+    return std::all_of(g.begin(), g.end(), [&](const DimensionUse& u) { return pred(u.leaf); });
+  };
+  auto cylinder = [&](std::size_t i) { return ls[i]->kind == PrimitiveKind3D::Cylinder; };
+  auto sphere = [&](std::size_t i) { return ls[i]->kind == PrimitiveKind3D::Sphere; };
+  auto hole = [&](std::size_t i) { return holes[i]; };
+  std::vector<SharedDimension> out;
+  Names names;
+  for (auto& g : equal_groups<double>(ls, {DimensionField::Radius}, [](const Primitive3D& p, auto) {
+         const bool round = p.kind == PrimitiveKind3D::Cylinder || p.kind == PrimitiveKind3D::Sphere;
+         return round ? std::optional<double>(p.dims[0]) : std::nullopt;
+       })) {
+    const char* base = all(g, sphere) ? "sphere_r" : !all(g, cylinder) ? "round_r"
+                       : all(g, hole)  ? "hole_r" : "cyl_r";
+    out.push_back({names.next(base), std::move(g)});
+  }
+  for (auto& g : equal_groups<double>(ls, {DimensionField::Length}, [](const Primitive3D& p, auto) {
+         return p.kind == PrimitiveKind3D::Cylinder ? std::optional<double>(p.dims[2]) : std::nullopt;
+       }))
+    out.push_back({names.next(all(g, hole) ? "hole_h" : "cyl_h"), std::move(g)});
   return out;
 }
 

@@ -95,6 +95,7 @@ class GroupSnapper {
       case DimensionField::Width: p.w = v; break;
       case DimensionField::Height: p.h = v; break;
       case DimensionField::Radius: p.w = p.h = 2 * v; break;
+      case DimensionField::Length: break;  // 3D only
     }
   }
 

@@ -1,6 +1,7 @@
-// Dimensions a 2D tree holds more than once: the equal radii of a row of holes, the common
-// centre of concentric circles. The writers name each once (a Customizer parameter in the
-// .scad, a spreadsheet cell in FreeCAD), so that editing it changes every primitive that uses it.
+// Dimensions a tree holds more than once: the equal radii of a row of holes, the common centre
+// of concentric circles, the one height of holes drilled through a plate. The writers name each
+// once (a Customizer parameter in the .scad, a spreadsheet cell in FreeCAD), so that editing it
+// changes every primitive that uses it.
 #pragma once
 
 #include <cstddef>
@@ -9,14 +10,16 @@
 #include <vector>
 
 #include "csgfit/model/tree2d.h"
+#include "csgfit/model/tree3d.h"
 
 namespace csgfit {
 
-/// Which number of a primitive a shared dimension stands for (pixel units, as in Primitive):
-/// a circle's radius is half its `w`.
-enum class DimensionField { CentreX, CentreY, Width, Height, Radius };
+/// Which number of a primitive a shared dimension stands for, in the primitive's own units: a
+/// circle's radius is half its `w`; in 3D, a sphere's or cylinder's radius is dims[0] and a
+/// cylinder's length along its axis (Length) dims[2].
+enum class DimensionField { CentreX, CentreY, Width, Height, Radius, Length };
 
-/// The JSON / .scad name of a field: "cx", "cy", "w", "h", "r".
+/// The JSON / .scad name of a field: "cx", "cy", "w", "h", "r", "h" (a cylinder's height).
 std::string_view field_name(DimensionField field);
 
 /// One field of one primitive; `leaf` indexes leaves(tree) (pre-order).
@@ -41,11 +44,17 @@ struct SharedDimension {
 /// values identical, and a value a user edits apart stops being shared.
 std::vector<SharedDimension> shared_dimensions(const Node& tree);
 
+/// The 3D tree's shared dimensions: radii of spheres and cylinders that are exactly equal
+/// (snap3d makes near-equal ones so), and heights of cylinders that are exactly equal.
+std::vector<SharedDimension> shared_dimensions(const Node3D& tree);
+
 /// Whether the leaf (pre-order index) is subtracted: under the cut-away side of an odd number of
 /// differences. A hole.
-std::vector<bool> subtracted_leaves(const Node& tree);
+template <typename P>
+std::vector<bool> subtracted_leaves(const CsgNode<P>& tree);
 
-/// The value of `field` on p, in pixel units (a circle's Radius is w / 2).
+/// The value of `field` on p, in its own units (a circle's Radius is w / 2).
 double field_value(const Primitive& p, DimensionField field);
+double field_value(const Primitive3D& p, DimensionField field);
 
 }  // namespace csgfit

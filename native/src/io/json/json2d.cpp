@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "csgfit/error.h"
-#include "csgfit/model/shared_dimensions.h"
 #include "io/input_file.h"
 #include "io/json/json_fields.h"
 
@@ -22,6 +21,7 @@ using json_detail::fail;
 using json_detail::finite_field;
 using json_detail::member;
 using json_detail::ojson;
+using json_detail::shared_to_json;
 using json_detail::stats_to_json;
 using nlohmann::json;
 
@@ -72,24 +72,6 @@ ojson node_to_json(const Node& n, double s, const std::string& where) {
       break;
   }
   return j;
-}
-
-// The tree's shared dimensions (shared_dimensions.h), for readers that build parametric models:
-// written from the values, never read back (the values are the truth).
-ojson shared_to_json(const Node& tree, double s) {
-  ojson out = ojson::array();
-  const std::vector<const Primitive*> ls = leaves(tree);
-  for (const SharedDimension& d : shared_dimensions(tree)) {
-    const DimensionUse& first = d.uses.front();
-    const double v = field_value(*ls[first.leaf], first.field) * s;
-    ojson uses = ojson::array();
-    for (const DimensionUse& u : d.uses)
-      uses.push_back(ojson{{"leaf", u.leaf}, {"field", std::string(field_name(u.field))}});
-    out.push_back(ojson{{"name", d.name},
-                        {"value", finite_field(v, "shared dimension " + d.name, "value")},
-                        {"uses", std::move(uses)}});
-  }
-  return out;
 }
 
 // ---- reading -----------------------------------------------------------------------------

@@ -203,6 +203,7 @@ std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const st
                      {"voxel_size", grid.voxel_size()},
                      {"frame", {frame.w, frame.x, frame.y, frame.z}}};
   doc["tree"] = node3d_to_json(result.tree, "tree");
+  doc["shared_dimensions"] = json_detail::shared_to_json(result.tree, 1.0);
   doc["stats"] = json_detail::stats_to_json(result.stats);
   return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
 }
@@ -237,6 +238,7 @@ ojson points_document(const Node3D& tree, const FitStats& stats, const std::vect
   doc["source"] = sources.empty() ? std::string() : sources.front();
   doc["sources"] = sources;
   doc["tree"] = node3d_to_json(tree, "tree");
+  doc["shared_dimensions"] = json_detail::shared_to_json(tree, 1.0);
   doc["stats"] = json_detail::stats_to_json(stats);
   return doc;
 }

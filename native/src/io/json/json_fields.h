@@ -8,6 +8,7 @@
 #include <string>
 
 #include "csgfit/model/frame.h"
+#include "csgfit/model/shared_dimensions.h"
 #include "csgfit/model/tree.h"
 #include "csgfit/model/tree2d.h"
 #include "csgfit/pipeline/fit_bitmap.h"
@@ -58,6 +59,26 @@ bool node_kind_from_name(const std::string& name, NodeKind* kind);
 FitResult read_document2d(const std::string& text, ModelFrame* frame, bool as_written);
 Node read_node2d(const nlohmann::json& j, double pixel_size, const std::string& where, bool as_written);
 FitStats read_stats2d(const nlohmann::json& j, const std::string& where);
+
+/// The tree's shared dimensions (shared_dimensions.h) for readers that build parametric models,
+/// values times `scale` (mm per pixel in 2D, 1 in 3D): written from the values, never read back
+/// (the values are the truth).
+template <typename NodeT>
+ojson shared_to_json(const NodeT& tree, double scale) {
+  ojson out = ojson::array();
+  const auto ls = leaves(tree);
+  for (const SharedDimension& d : shared_dimensions(tree)) {
+    const DimensionUse& first = d.uses.front();
+    const double v = field_value(*ls[first.leaf], first.field) * scale;
+    ojson uses = ojson::array();
+    for (const DimensionUse& u : d.uses)
+      uses.push_back(ojson{{"leaf", u.leaf}, {"field", std::string(field_name(u.field))}});
+    out.push_back(ojson{{"name", d.name},
+                        {"value", finite_field(v, "shared dimension " + d.name, "value")},
+                        {"uses", std::move(uses)}});
+  }
+  return out;
+}
 
 /// The "stats" object of both dimensions; a NaN or infinite statistic is written as null
 /// (JSON has neither), and read back as 0.
