@@ -100,7 +100,8 @@ std::vector<AxisPlane> axis_planes(const TriangleMesh& mesh, double merge, doubl
   return planes;
 }
 
-std::vector<Vec3> surface_samples(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed) {
+std::vector<Vec3> surface_samples(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed,
+                                  std::vector<Vec3>* normals) {
   std::vector<double> cumulative;
   cumulative.reserve(mesh.triangles.size());
   double total = 0;
@@ -118,6 +119,7 @@ std::vector<Vec3> surface_samples(const TriangleMesh& mesh, std::size_t count, s
   if (!(total > 0)) return out;
   rnd::Rng rng(rnd::splitmix(seed ^ 0x5eed5a3b1e5ULL));
   out.reserve(count);
+  if (normals) normals->clear(), normals->reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
     const double x = rnd::uniform(rng, 0, total);
     const std::size_t t = static_cast<std::size_t>(
@@ -134,6 +136,11 @@ std::vector<Vec3> surface_samples(const TriangleMesh& mesh, std::size_t count, s
     out.push_back({p0[0] + u * (p1[0] - p0[0]) + v * (p2[0] - p0[0]),
                    p0[1] + u * (p1[1] - p0[1]) + v * (p2[1] - p0[1]),
                    p0[2] + u * (p1[2] - p0[2]) + v * (p2[2] - p0[2])});
+    if (!normals) continue;
+    const Vec3 n = cross(Vec3{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]},
+                         Vec3{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]});
+    const double len = std::sqrt(dot(n, n));
+    normals->push_back(len > 0 ? Vec3{n[0] / len, n[1] / len, n[2] / len} : Vec3{0, 0, 1});
   }
   return out;
 }

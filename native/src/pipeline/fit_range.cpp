@@ -12,7 +12,7 @@
 #include "csgfit/eval/range_view.h"
 #include "csgfit/features/range_evidence.h"
 #include "csgfit/refine/range_refine.h"
-#include "csgfit/seed/range_primitives.h"
+#include "csgfit/seed/surface_candidates.h"
 #include "fit_request.h"
 #include "model/linalg.h"
 
@@ -61,50 +61,6 @@ MergedPoints merge(const std::vector<RangeScan>& scans) {
   if (!(m.diagonal > 0) || !std::isfinite(m.diagonal))
     throw InputError("the points span no volume");
   return m;
-}
-
-// The median distance from a point to its nearest neighbour, over an even sample of 400.
-double point_spacing(const std::vector<Vec3>& points) {
-  const std::size_t stride = std::max<std::size_t>(1, points.size() / 400);
-  std::vector<double> nearest;
-  for (std::size_t i = 0; i < points.size(); i += stride) {
-    double best = 1e300;
-    for (std::size_t j = 0; j < points.size(); ++j)
-      if (j != i) best = std::min(best, squared(sub(points[i], points[j])));
-    nearest.push_back(std::sqrt(best));
-  }
-  std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
-  return nearest[nearest.size() / 2];
-}
-
-SurfaceDetectOptions detector_for(const RangeFitOptions& o) {
-  SurfaceDetectOptions d = o.detect;
-  d.spheres = d.spheres && o.primitives.has(PrimitiveKind3D::Sphere);
-  d.cylinders = d.cylinders && o.primitives.has(PrimitiveKind3D::Cylinder);
-  d.cones = d.cones && o.primitives.has(PrimitiveKind3D::Cone);
-  d.tori = d.tori && o.primitives.has(PrimitiveKind3D::Torus);
-  return d;  // planes always: they are the bases of cylinders and cones too
-}
-
-// Blocks only where boxes are allowed (a plane may still be a base of an allowed kind).
-std::vector<SignedPrimitive> allowed(std::vector<SignedPrimitive> prims, const PrimitiveSet3D& set,
-                                     std::vector<std::vector<int>>& adjacent,
-                                     std::vector<std::vector<Vec3>>& points) {
-  std::vector<int> index(prims.size(), -1);
-  std::vector<SignedPrimitive> kept;
-  for (std::size_t i = 0; i < prims.size(); ++i)
-    if (set.has(prims[i].primitive.kind)) index[i] = static_cast<int>(kept.size()), kept.push_back(prims[i]);
-  std::vector<std::vector<int>> adj(kept.size());
-  std::vector<std::vector<Vec3>> pts(kept.size());
-  for (std::size_t i = 0; i < prims.size(); ++i) {
-    if (index[i] < 0) continue;
-    pts[index[i]] = std::move(points[i]);
-    for (int j : adjacent[i])
-      if (index[j] >= 0) adj[index[i]].push_back(index[j]);
-  }
-  adjacent = std::move(adj);
-  points = std::move(pts);
-  return kept;
 }
 
 std::vector<int> patch_labels(const std::vector<SurfacePatch>& patches, std::size_t n) {
@@ -171,18 +127,12 @@ RangeFitResult fit_range(const std::vector<RangeScan>& scans, const RangeFitOpti
 
   RangeFitResult result;
   result.diagonal = merged.diagonal;
-  result.patches =
-      detect_surfaces(merged.points, merged.normals, detector_for(options), options.seed, cancel);
+  SurfaceReading reading = read_surface(merged.points, merged.normals, options.detect,
+                                        options.primitives, options.seed, cancel);
+  result.patches = std::move(reading.patches);
   result.patch_of_point = patch_labels(result.patches, merged.points.size());
+  result.graph = std::move(reading.graph);
   const bool go_on = report(progress, 0.4, elapsed(), 0) && !(cancel && cancel->load());
-
-  // Two patches touch across the band that their edges lose (normals blend there and those
-  // points belong to neither): a few point spacings, and no less than 2 % of the part.
-  const double contact = std::max(0.02 * merged.diagonal, 6 * point_spacing(merged.points));
-  RecognisedPrimitives rec =
-      recognise_primitives(result.patches, merged.points, merged.diagonal, contact);
-  rec.primitives = allowed(std::move(rec.primitives), options.primitives, rec.adjacent, rec.patch_points);
-  result.graph = build_precedence_graph(std::move(rec.primitives), rec.adjacent, rec.patch_points);
   if (!result.graph.nodes.empty() && go_on) {
     // The surface tolerance: twice RANSAC's, so that sensor noise is not a mismatch.
     const RangeEvidence evidence = gather_evidence(scans, 0.008 * merged.diagonal, 6000);

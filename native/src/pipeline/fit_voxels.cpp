@@ -45,6 +45,14 @@ Problem3D make_problem3d(const VoxelGrid& target, const FitOptions3D& options,
     only.add(kind);
     if (auto m = match_region3d(target, only)) pb.hulls.push_back(m->primitive);
   }
+  for (const Primitive3D& p : options.surface.positives) {
+    pb.proposals.push_back({p, true});
+    // A sphere or cylinder the surface shows is the hull a part was trimmed with (lock: a cube
+    // intersected with a sphere).
+    if (p.kind == PrimitiveKind3D::Sphere || p.kind == PrimitiveKind3D::Cylinder)
+      pb.hulls.push_back(p);
+  }
+  for (const Primitive3D& p : options.surface.negatives) pb.proposals.push_back({p, false});
   // --time bounds the wall time: no single tree's optimisation may run past it.
   pb.new_leaf_opt.deadline = pb.all_leaf_opt.deadline =
       at_fraction(start, options.time_limit, 1.0);
@@ -91,6 +99,16 @@ Candidate seed_tree(const VoxelGrid& target, const FitOptions3D& options, const 
   search_limit = std::max(0.5 * options.time_limit, options.time_limit - 2.0 * polish_seconds);
   Candidate best = ops.evaluate(std::move(tree), {}, false);
   ops.accept(best);
+  // The surface's trees, their leaves fitted to the voxels: the program where the surface
+  // reads as one, else the decomposition.
+  for (const Node3D& t : options.surface.trees) {
+    if (t.primitive_count() == 0) continue;
+    std::vector<Primitive3D> fresh;
+    for (const Primitive3D* p : leaves(t)) fresh.push_back(*p);
+    Candidate c = ops.evaluate(t, fresh, false);
+    ops.accept(c);
+    if (c.score < best.score) best = std::move(c);
+  }
   return best;
 }
 

@@ -37,6 +37,13 @@ struct Problem3D {
   // Round primitives matched to the whole target: what INT intersects a tree with to trim its
   // outline (a cube intersected with a sphere, a plate with a cylinder).
   std::vector<Primitive3D> hulls;
+  // Primitives read off the input's surface, with their sign: what ADD tries beside the
+  // residual's match (issue 11: the designer's cylinder, not the boxes that fill its voxels).
+  struct Proposal {
+    Primitive3D primitive;
+    bool positive = true;
+  };
+  std::vector<Proposal> proposals;
 };
 
 /// One island's perturbations and their random numbers.

@@ -6,100 +6,42 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
-/* [Cone 1] */
-cone_1_cx = 0.0195; // [-20:0.01:20]
-cone_1_cy = 0.0195; // [-20:0.01:20]
-cone_1_cz = 0; // [-20:0.01:20]
-cone_1_rot_x = 0.241339; // [-180:0.1:180]
-cone_1_rot_y = -0.11287; // [-180:0.1:180]
-cone_1_r1 = 0.3744; // [0:0.01:20]
-cone_1_r2 = 0.4313; // [0:0.01:20]
-cone_1_h = 9.9676; // [0:0.01:20]
+/* [Shared dimensions] */
+// radius of cylinders 1 and 2
+cyl_r = 0.2583; // [0:0.01:20]
 
-/* [Box 2] */
-box_2_cx = 0.0075; // [-20:0.01:20]
-box_2_cy = -0.0039; // [-20:0.01:20]
-box_2_cz = -2.5002; // [-20:0.01:20]
-box_2_size_x = 0.8547; // [0:0.01:20]
-box_2_size_y = 0.8594; // [0:0.01:20]
-box_2_size_z = 4.9996; // [0:0.01:20]
+/* [Cylinder 1] */
+cyl_1_cx = -0.0008; // [-20:0.01:20]
+cyl_1_cy = -0.0002; // [-20:0.01:20]
+cyl_1_cz = 0.0155; // [-20:0.01:20]
+cyl_1_rot_y = 180; // [-180:0.1:180]
+cyl_1_h = 9.4821; // [0:0.01:20]
+
+/* [Cylinder 2] */
+cyl_2_cx = -0.0008; // [-20:0.01:20]
+cyl_2_cy = -0.0002; // [-20:0.01:20]
+cyl_2_cz = -0.2562; // [-20:0.01:20]
+cyl_2_rot_y = 180; // [-180:0.1:180]
+cyl_2_h = 9.4877; // [0:0.01:20]
 
 /* [Cylinder 3] */
 cyl_3_cx = -0.0008; // [-20:0.01:20]
-cyl_3_cy = 0; // [-20:0.01:20]
-cyl_3_cz = -2.482; // [-20:0.01:20]
-cyl_3_r = 0.2583; // [0:0.01:20]
-cyl_3_h = 5.036; // [0:0.01:20]
+cyl_3_cy = -0.0002; // [-20:0.01:20]
+cyl_3_cz = 4.7438; // [-20:0.01:20]
+cyl_3_rot_y = 180; // [-180:0.1:180]
+cyl_3_r = 0.419; // [0:0.01:20]
+cyl_3_h = 0.5123; // [0:0.01:20]
 
-/* [Box 4] */
-box_4_cx = -0.0003; // [-20:0.01:20]
-box_4_cy = 0.0012; // [-20:0.01:20]
-box_4_cz = 2.5; // [-20:0.01:20]
-box_4_size_x = 0.8984; // [0:0.01:20]
-box_4_size_y = 0.8594; // [0:0.01:20]
-box_4_size_z = 5; // [0:0.01:20]
-
-/* [Cylinder 5] */
-cyl_5_cx = -0.0008; // [-20:0.01:20]
-cyl_5_cy = 0; // [-20:0.01:20]
-cyl_5_cz = 1.272; // [-20:0.01:20]
-cyl_5_r = 0.2583; // [0:0.01:20]
-cyl_5_h = 2.5524; // [0:0.01:20]
-
-/* [Sphere 6] */
-sphere_6_cx = 0.0121; // [-20:0.01:20]
-sphere_6_cy = 0.0037; // [-20:0.01:20]
-sphere_6_cz = 3.7687; // [-20:0.01:20]
-sphere_6_r = 1.2733; // [0:0.01:20]
-
-/* [Box 7] */
-box_7_cx = 0.0147; // [-20:0.01:20]
-box_7_cy = 0; // [-20:0.01:20]
-box_7_cz = 3.125; // [-20:0.01:20]
-box_7_size_x = 0.8691; // [0:0.01:20]
-box_7_size_y = 0.8594; // [0:0.01:20]
-box_7_size_z = 1.25; // [0:0.01:20]
-
-/* [Cylinder 8] */
-cyl_8_cx = -0.0008; // [-20:0.01:20]
-cyl_8_cy = 0; // [-20:0.01:20]
-cyl_8_cz = 3.1292; // [-20:0.01:20]
-cyl_8_r = 0.2583; // [0:0.01:20]
-cyl_8_h = 1.25; // [0:0.01:20]
-
-/* [Box 9] */
-box_9_cx = 0.0342; // [-20:0.01:20]
-box_9_cy = 0; // [-20:0.01:20]
-box_9_cz = 4.375; // [-20:0.01:20]
-box_9_size_x = 0.9081; // [0:0.01:20]
-box_9_size_y = 0.8594; // [0:0.01:20]
-box_9_size_z = 1.25; // [0:0.01:20]
-
-/* [Cylinder 10] */
-cyl_10_cx = -0.0008; // [-20:0.01:20]
-cyl_10_cy = 0; // [-20:0.01:20]
-cyl_10_cz = 4.735; // [-20:0.01:20]
-cyl_10_rot_y = 180; // [-180:0.1:180]
-cyl_10_r = 0.4195; // [0:0.01:20]
-cyl_10_h = 0.4947; // [0:0.01:20]
-
-/* [Ellipsoid 11] */
-ellipsoid_11_cx = -0.0007; // [-20:0.01:20]
-ellipsoid_11_cy = 0; // [-20:0.01:20]
-ellipsoid_11_cz = 4.091; // [-20:0.01:20]
-ellipsoid_11_rot_x = 179.94736; // [-180:0.1:180]
-ellipsoid_11_rot_y = 0.006572; // [-180:0.1:180]
-ellipsoid_11_rot_z = -100.217495; // [-180:0.1:180]
-ellipsoid_11_rx = 0.2591; // [0:0.01:20]
-ellipsoid_11_ry = 0.259; // [0:0.01:20]
-ellipsoid_11_rz = 2.8404; // [0:0.01:20]
-
-/* [Cylinder 12] */
-cyl_12_cx = -0.0008; // [-20:0.01:20]
-cyl_12_cy = 0; // [-20:0.01:20]
-cyl_12_cz = 4.8782; // [-20:0.01:20]
-cyl_12_r = 0.2286; // [0:0.01:20]
-cyl_12_h = 0.2435; // [0:0.01:20]
+/* [Ellipsoid 4] */
+ellipsoid_4_cx = 0; // [-20:0.01:20]
+ellipsoid_4_cy = 0.0013; // [-20:0.01:20]
+ellipsoid_4_cz = 4.7823; // [-20:0.01:20]
+ellipsoid_4_rot_x = 38.598636; // [-180:0.1:180]
+ellipsoid_4_rot_y = -86.687676; // [-180:0.1:180]
+ellipsoid_4_rot_z = -47.433625; // [-180:0.1:180]
+ellipsoid_4_rx = 0.8753; // [0:0.01:20]
+ellipsoid_4_ry = 0.2338; // [0:0.01:20]
+ellipsoid_4_rz = 0.2357; // [0:0.01:20]
 
 /* [Hidden] */
 $fn = segments;
@@ -119,29 +61,13 @@ function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
   fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
 
 module csg_high_res() {
-  difference() {
-    translate([cone_1_cx, cone_1_cy, cone_1_cz]) rotate([cone_1_rot_x, cone_1_rot_y, 0]) cylinder(h = cone_1_h, r1 = fn_r(cone_1_r1), r2 = fn_r(cone_1_r2), center = true);
+  union() {
+    translate([cyl_1_cx, cyl_1_cy, cyl_1_cz]) rotate([0, cyl_1_rot_y, 0]) cylinder(h = cyl_1_h, r = fn_r(cyl_r), center = true);
+    translate([cyl_2_cx, cyl_2_cy, cyl_2_cz]) rotate([0, cyl_2_rot_y, 0]) cylinder(h = cyl_2_h, r = fn_r(cyl_r), center = true);
     difference() {
-      translate([box_2_cx, box_2_cy, box_2_cz]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
-      translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
+      translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) rotate([0, cyl_3_rot_y, 0]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
+      translate([ellipsoid_4_cx, ellipsoid_4_cy, ellipsoid_4_cz]) rotate([ellipsoid_4_rot_x, ellipsoid_4_rot_y, ellipsoid_4_rot_z]) scale([ellipsoid_4_rx, ellipsoid_4_ry, ellipsoid_4_rz]) sphere(r = fn_sr(1));
     }
-    difference() {
-      translate([box_4_cx, box_4_cy, box_4_cz]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
-      translate([cyl_5_cx, cyl_5_cy, cyl_5_cz]) cylinder(h = cyl_5_h, r = fn_r(cyl_5_r), center = true);
-      difference() {
-        translate([sphere_6_cx, sphere_6_cy, sphere_6_cz]) sphere(r = fn_sr(sphere_6_r));
-        difference() {
-          translate([box_7_cx, box_7_cy, box_7_cz]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
-          translate([cyl_8_cx, cyl_8_cy, cyl_8_cz]) cylinder(h = cyl_8_h, r = fn_r(cyl_8_r), center = true);
-        }
-        difference() {
-          translate([box_9_cx, box_9_cy, box_9_cz]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
-          translate([cyl_10_cx, cyl_10_cy, cyl_10_cz]) rotate([0, cyl_10_rot_y, 0]) cylinder(h = cyl_10_h, r = fn_r(cyl_10_r), center = true);
-          translate([ellipsoid_11_cx, ellipsoid_11_cy, ellipsoid_11_cz]) rotate([ellipsoid_11_rot_x, ellipsoid_11_rot_y, ellipsoid_11_rot_z]) scale([ellipsoid_11_rx, ellipsoid_11_ry, ellipsoid_11_rz]) sphere(r = fn_sr(1));
-        }
-      }
-    }
-    translate([cyl_12_cx, cyl_12_cy, cyl_12_cz]) cylinder(h = cyl_12_h, r = fn_r(cyl_12_r), center = true);
   }
 }
 

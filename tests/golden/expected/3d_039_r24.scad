@@ -6,272 +6,177 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
+/* [Shared dimensions] */
+// radius of cylinders 5 and 18
+hole_r = 0.4313; // [0:0.1:200]
+// radius of cylinders 9 and 10
+cyl_r = 0.9843; // [0:0.1:200]
+// height of cylinders 9 and 10
+cyl_h = 1.7391; // [0:0.1:200]
+
 /* [Box 1] */
-box_1_cx = 0; // [-100:0.01:100]
-box_1_cy = -0.135; // [-100:0.01:100]
-box_1_cz = -0.0221; // [-100:0.01:100]
-box_1_rot_x = 90; // [-180:0.1:180]
-box_1_size_x = 8.8075; // [0:0.01:100]
-box_1_size_y = 3.8937; // [0:0.01:100]
-box_1_size_z = 9.3076; // [0:0.01:100]
+box_1_cx = 0; // [-200:0.1:200]
+box_1_cy = -0.5714; // [-200:0.1:200]
+box_1_cz = 0.0497; // [-200:0.1:200]
+box_1_rot_y = -90; // [-180:0.1:180]
+box_1_size_x = 3.0435; // [0:0.1:200]
+box_1_size_y = 8.4348; // [0:0.1:200]
+box_1_size_z = 8.8075; // [0:0.1:200]
 
-/* [Box 2] */
-box_2_cx = -2.8864; // [-100:0.01:100]
-box_2_cy = 2.6563; // [-100:0.01:100]
-box_2_cz = 0.1819; // [-100:0.01:100]
-box_2_rot_y = -90; // [-180:0.1:180]
-box_2_rot_z = 90; // [-180:0.1:180]
-box_2_size_x = 4.8046; // [0:0.01:100]
-box_2_size_y = 5.9845; // [0:0.01:100]
-box_2_size_z = 15.6257; // [0:0.01:100]
+/* [Prism 2] */
+prism_2_cx = -0.0255; // [-200:0.1:200]
+prism_2_cy = 0.6358; // [-200:0.1:200]
+prism_2_cz = 2.5673; // [-200:0.1:200]
+prism_2_rot_x = 44.294351; // [-180:0.1:180]
+prism_2_rot_y = -89.261227; // [-180:0.1:180]
+prism_2_rot_z = 45.520649; // [-180:0.1:180]
+prism_2_w = 81.5492; // [0:0.1:200]
+prism_2_h = 7.3266; // [0:0.1:200]
+prism_2_depth = 10.0321; // [0:0.1:200]
+prism_2_apex = -0.057145; // [-4:0.01:4]
 
-/* [Box 3] */
-box_3_cx = 2.164; // [-100:0.01:100]
-box_3_cy = -2.4639; // [-100:0.01:100]
-box_3_cz = -0.959; // [-100:0.01:100]
-box_3_rot_x = 89.944013; // [-180:0.1:180]
-box_3_rot_y = 5.742138; // [-180:0.1:180]
-box_3_rot_z = 0.431515; // [-180:0.1:180]
-box_3_size_x = 32.2183; // [0:0.01:100]
-box_3_size_y = 3.8657; // [0:0.01:100]
-box_3_size_z = 4.578; // [0:0.01:100]
+/* [Cylinder 3] */
+cyl_3_cx = -3.105; // [-200:0.1:200]
+cyl_3_cy = -1.1401; // [-200:0.1:200]
+cyl_3_cz = -0.9831; // [-200:0.1:200]
+cyl_3_rot_x = 0.535348; // [-180:0.1:180]
+cyl_3_rot_y = 167.766338; // [-180:0.1:180]
+cyl_3_r = 0.2175; // [0:0.1:200]
+cyl_3_h = 6.2681; // [0:0.1:200]
 
-/* [Box 4] */
-box_4_cx = -5.0913; // [-100:0.01:100]
-box_4_cy = -2.2796; // [-100:0.01:100]
-box_4_cz = -0.0324; // [-100:0.01:100]
-box_4_rot_x = -39.862194; // [-180:0.1:180]
-box_4_rot_y = 78.662159; // [-180:0.1:180]
-box_4_rot_z = -31.897077; // [-180:0.1:180]
-box_4_size_x = 6.2181; // [0:0.01:100]
-box_4_size_y = 5.063; // [0:0.01:100]
-box_4_size_z = 4.0921; // [0:0.01:100]
+/* [Cylinder 4] */
+cyl_4_cx = 0.0227; // [-200:0.1:200]
+cyl_4_cy = -0.0999; // [-200:0.1:200]
+cyl_4_cz = 1.5691; // [-200:0.1:200]
+cyl_4_rot_x = 90; // [-180:0.1:180]
+cyl_4_r = 2.7469; // [0:0.1:200]
+cyl_4_h = 9.7774; // [0:0.1:200]
 
-/* [Cone 5] */
-cone_5_cx = -3.7899; // [-100:0.01:100]
-cone_5_cy = -5.1897; // [-100:0.01:100]
-cone_5_cz = -0.4691; // [-100:0.01:100]
-cone_5_rot_x = 55.084716; // [-180:0.1:180]
-cone_5_rot_y = -122.341386; // [-180:0.1:180]
-cone_5_r1 = 2.9481; // [0:0.01:100]
-cone_5_r2 = 0.118; // [0:0.01:100]
-cone_5_h = 5.3482; // [0:0.01:100]
+/* [Cylinder 5] */
+cyl_5_cx = -3.6035; // [-200:0.1:200]
+cyl_5_cy = -0.7015; // [-200:0.1:200]
+cyl_5_cz = 0.5045; // [-200:0.1:200]
+cyl_5_rot_y = 180; // [-180:0.1:180]
+cyl_5_h = 2.4624; // [0:0.1:200]
 
 /* [Box 6] */
-box_6_cx = -3.1386; // [-100:0.01:100]
-box_6_cy = -3.4706; // [-100:0.01:100]
-box_6_cz = 0.4429; // [-100:0.01:100]
-box_6_rot_x = 90.076764; // [-180:0.1:180]
-box_6_rot_y = -77.062924; // [-180:0.1:180]
-box_6_rot_z = -84.034131; // [-180:0.1:180]
-box_6_size_x = 3.3294; // [0:0.01:100]
-box_6_size_y = 2.366; // [0:0.01:100]
-box_6_size_z = 0.9599; // [0:0.01:100]
+box_6_cx = 0; // [-200:0.1:200]
+box_6_cy = -3.0664; // [-200:0.1:200]
+box_6_cz = -1.5342; // [-200:0.1:200]
+box_6_rot_y = -90; // [-180:0.1:180]
+box_6_size_x = 0.8696; // [0:0.1:200]
+box_6_size_y = 3.4449; // [0:0.1:200]
+box_6_size_z = 7.4161; // [0:0.1:200]
 
 /* [Cone 7] */
-cone_7_cx = -5.2201; // [-100:0.01:100]
-cone_7_cy = -2.2334; // [-100:0.01:100]
-cone_7_cz = 0.8945; // [-100:0.01:100]
-cone_7_rot_x = -1.811065; // [-180:0.1:180]
-cone_7_rot_y = -153.860514; // [-180:0.1:180]
-cone_7_r1 = 1.4275; // [0:0.01:100]
-cone_7_r2 = 2.3117; // [0:0.01:100]
-cone_7_h = 2.1347; // [0:0.01:100]
+cone_7_cx = 3.2497; // [-200:0.1:200]
+cone_7_cy = 1.8276; // [-200:0.1:200]
+cone_7_cz = -1.5254; // [-200:0.1:200]
+cone_7_rot_x = 90; // [-180:0.1:180]
+cone_7_r1 = 0.5075; // [0:0.1:200]
+cone_7_r2 = 0.4739; // [0:0.1:200]
+cone_7_h = 3.6366; // [0:0.1:200]
 
-/* [Ellipsoid 8] */
-ellipsoid_8_cx = -1.1233; // [-100:0.01:100]
-ellipsoid_8_cy = -1.6022; // [-100:0.01:100]
-ellipsoid_8_cz = 3.0842; // [-100:0.01:100]
-ellipsoid_8_rot_x = 66.809635; // [-180:0.1:180]
-ellipsoid_8_rot_y = 78.255231; // [-180:0.1:180]
-ellipsoid_8_rot_z = 46.746301; // [-180:0.1:180]
-ellipsoid_8_rx = 17.7584; // [0:0.01:100]
-ellipsoid_8_ry = 3.8467; // [0:0.01:100]
-ellipsoid_8_rz = 2.113; // [0:0.01:100]
+/* [Box 8] */
+box_8_cx = -3.2627; // [-200:0.1:200]
+box_8_cy = 0.5475; // [-200:0.1:200]
+box_8_cz = -1.5289; // [-200:0.1:200]
+box_8_rot_x = 90.429878; // [-180:0.1:180]
+box_8_rot_y = 11.574122; // [-180:0.1:180]
+box_8_rot_z = -2.020889; // [-180:0.1:180]
+box_8_size_x = 0.8569; // [0:0.1:200]
+box_8_size_y = 0.8784; // [0:0.1:200]
+box_8_size_z = 6.1932; // [0:0.1:200]
 
-/* [Box 9] */
-box_9_cx = -1.842; // [-100:0.01:100]
-box_9_cy = -3.6646; // [-100:0.01:100]
-box_9_cz = -1.5342; // [-100:0.01:100]
-box_9_rot_x = 90; // [-180:0.1:180]
-box_9_size_x = 3.7321; // [0:0.01:100]
-box_9_size_y = 0.8696; // [0:0.01:100]
-box_9_size_z = 1.4534; // [0:0.01:100]
+/* [Cylinder 9] */
+cyl_9_cx = 3.5879; // [-200:0.1:200]
+cyl_9_cy = -0.7063; // [-200:0.1:200]
+cyl_9_cz = -1.0994; // [-200:0.1:200]
 
-/* [Box 10] */
-box_10_cx = -2.2167; // [-100:0.01:100]
-box_10_cy = 2.2785; // [-100:0.01:100]
-box_10_cz = -0.199; // [-100:0.01:100]
-box_10_rot_x = 0.542441; // [-180:0.1:180]
-box_10_rot_y = -0.031975; // [-180:0.1:180]
-box_10_rot_z = -0.104406; // [-180:0.1:180]
-box_10_size_x = 4.3514; // [0:0.01:100]
-box_10_size_y = 5.3918; // [0:0.01:100]
-box_10_size_z = 3.5088; // [0:0.01:100]
+/* [Cylinder 10] */
+cyl_10_cx = -3.6035; // [-200:0.1:200]
+cyl_10_cy = -0.7015; // [-200:0.1:200]
+cyl_10_cz = -1.0994; // [-200:0.1:200]
 
-/* [Box 11] */
-box_11_cx = -1.39; // [-100:0.01:100]
-box_11_cy = 1.0489; // [-100:0.01:100]
-box_11_cz = 0.1268; // [-100:0.01:100]
-box_11_rot_x = -89.573526; // [-180:0.1:180]
-box_11_rot_y = -0.456846; // [-180:0.1:180]
-box_11_rot_z = 178.830854; // [-180:0.1:180]
-box_11_size_x = 4.5771; // [0:0.01:100]
-box_11_size_y = 8.8171; // [0:0.01:100]
-box_11_size_z = 4.0146; // [0:0.01:100]
+/* [Cylinder 11] */
+cyl_11_cx = 3.7579; // [-200:0.1:200]
+cyl_11_cy = -0.7087; // [-200:0.1:200]
+cyl_11_cz = 0.7306; // [-200:0.1:200]
+cyl_11_rot_x = -0.645257; // [-180:0.1:180]
+cyl_11_rot_y = 4.894849; // [-180:0.1:180]
+cyl_11_r = 0.9104; // [0:0.1:200]
+cyl_11_h = 1.7125; // [0:0.1:200]
 
-/* [Prism 12] */
-prism_12_cx = -3.5397; // [-100:0.01:100]
-prism_12_cy = 1.029; // [-100:0.01:100]
-prism_12_cz = -1.5342; // [-100:0.01:100]
-prism_12_rot_z = 90; // [-180:0.1:180]
-prism_12_w = 6.2328; // [0:0.01:100]
-prism_12_h = 1.4578; // [0:0.01:100]
-prism_12_depth = 0.8696; // [0:0.01:100]
-prism_12_apex = 0.409382; // [-4:0.01:4]
+/* [Box 12] */
+box_12_cx = 0.1116; // [-200:0.1:200]
+box_12_cy = 3.3106; // [-200:0.1:200]
+box_12_cz = -0.2774; // [-200:0.1:200]
+box_12_rot_x = 90; // [-180:0.1:180]
+box_12_size_x = 7.6394; // [0:0.1:200]
+box_12_size_y = 3.3831; // [0:0.1:200]
+box_12_size_z = 0.6708; // [0:0.1:200]
 
 /* [Prism 13] */
-prism_13_cx = -3.3887; // [-100:0.01:100]
-prism_13_cy = 5.0072; // [-100:0.01:100]
-prism_13_cz = -0.5948; // [-100:0.01:100]
-prism_13_rot_x = -92.251279; // [-180:0.1:180]
-prism_13_rot_y = 51.721175; // [-180:0.1:180]
-prism_13_rot_z = -0.523982; // [-180:0.1:180]
-prism_13_w = 16.572; // [0:0.01:100]
-prism_13_h = 3.935; // [0:0.01:100]
-prism_13_depth = 2.7659; // [0:0.01:100]
-prism_13_apex = 0.050286; // [-4:0.01:4]
+prism_13_cx = 2.1105; // [-200:0.1:200]
+prism_13_cy = 3.9822; // [-200:0.1:200]
+prism_13_cz = 0.968; // [-200:0.1:200]
+prism_13_rot_x = 38.579662; // [-180:0.1:180]
+prism_13_rot_y = 17.746805; // [-180:0.1:180]
+prism_13_rot_z = -91.037338; // [-180:0.1:180]
+prism_13_w = 1.5107; // [0:0.1:200]
+prism_13_h = 4.4997; // [0:0.1:200]
+prism_13_depth = 0.7717; // [0:0.1:200]
+prism_13_apex = 0.926052; // [-4:0.01:4]
 
-/* [Box 14] */
-box_14_cx = 9.4782; // [-100:0.01:100]
-box_14_cy = -1.0872; // [-100:0.01:100]
-box_14_cz = 2.1858; // [-100:0.01:100]
-box_14_rot_x = 126.476821; // [-180:0.1:180]
-box_14_rot_y = 33.721844; // [-180:0.1:180]
-box_14_rot_z = -69.936275; // [-180:0.1:180]
-box_14_size_x = 22.8997; // [0:0.01:100]
-box_14_size_y = 22.8997; // [0:0.01:100]
-box_14_size_z = 20.2747; // [0:0.01:100]
+/* [Ellipsoid 14] */
+ellipsoid_14_cx = -1.6495; // [-200:0.1:200]
+ellipsoid_14_cy = 3.6985; // [-200:0.1:200]
+ellipsoid_14_cz = 0.5583; // [-200:0.1:200]
+ellipsoid_14_rot_x = 56.67234; // [-180:0.1:180]
+ellipsoid_14_rot_y = -44.739358; // [-180:0.1:180]
+ellipsoid_14_rot_z = 61.146732; // [-180:0.1:180]
+ellipsoid_14_rx = 0.9038; // [0:0.1:200]
+ellipsoid_14_ry = 1.8247; // [0:0.1:200]
+ellipsoid_14_rz = 0.4332; // [0:0.1:200]
 
-/* [Prism 15] */
-prism_15_cx = 3.5757; // [-100:0.01:100]
-prism_15_cy = -3.1544; // [-100:0.01:100]
-prism_15_cz = 0.1813; // [-100:0.01:100]
-prism_15_rot_x = 133.081417; // [-180:0.1:180]
-prism_15_rot_y = -68.086821; // [-180:0.1:180]
-prism_15_rot_z = 166.157815; // [-180:0.1:180]
-prism_15_w = 7.2423; // [0:0.01:100]
-prism_15_h = 11.2978; // [0:0.01:100]
-prism_15_depth = 5.049; // [0:0.01:100]
-prism_15_apex = 0.071456; // [-4:0.01:4]
+/* [Ellipsoid 15] */
+ellipsoid_15_cx = -6.0985; // [-200:0.1:200]
+ellipsoid_15_cy = -0.6494; // [-200:0.1:200]
+ellipsoid_15_cz = -4.5594; // [-200:0.1:200]
+ellipsoid_15_rot_x = -176.988643; // [-180:0.1:180]
+ellipsoid_15_rot_y = 53.487646; // [-180:0.1:180]
+ellipsoid_15_rot_z = 178.587432; // [-180:0.1:180]
+ellipsoid_15_rx = 5.0532; // [0:0.1:200]
+ellipsoid_15_ry = 1.4572; // [0:0.1:200]
+ellipsoid_15_rz = 1.6193; // [0:0.1:200]
 
-/* [Ellipsoid 16] */
-ellipsoid_16_cx = 0.208; // [-100:0.01:100]
-ellipsoid_16_cy = -2.6039; // [-100:0.01:100]
-ellipsoid_16_cz = 0.7486; // [-100:0.01:100]
-ellipsoid_16_rot_x = 115.686701; // [-180:0.1:180]
-ellipsoid_16_rot_y = -54.233183; // [-180:0.1:180]
-ellipsoid_16_rot_z = -16.946374; // [-180:0.1:180]
-ellipsoid_16_rx = 3.32; // [0:0.01:100]
-ellipsoid_16_ry = 3.7104; // [0:0.01:100]
-ellipsoid_16_rz = 2.7373; // [0:0.01:100]
+/* [Cylinder 16] */
+cyl_16_cx = 3.7259; // [-200:0.1:200]
+cyl_16_cy = -0.6774; // [-200:0.1:200]
+cyl_16_cz = -2.2847; // [-200:0.1:200]
+cyl_16_rot_x = 0.094403; // [-180:0.1:180]
+cyl_16_rot_y = -173.270025; // [-180:0.1:180]
+cyl_16_r = 0.9527; // [0:0.1:200]
+cyl_16_h = 3.1112; // [0:0.1:200]
 
-/* [Box 17] */
-box_17_cx = 1.1619; // [-100:0.01:100]
-box_17_cy = -3.8634; // [-100:0.01:100]
-box_17_cz = -1.5342; // [-100:0.01:100]
-box_17_size_x = 3.8009; // [0:0.01:100]
-box_17_size_y = 1.8509; // [0:0.01:100]
-box_17_size_z = 0.8696; // [0:0.01:100]
+/* [Prism 17] */
+prism_17_cx = 0.0062; // [-200:0.1:200]
+prism_17_cy = -1.1437; // [-200:0.1:200]
+prism_17_cz = 0.133; // [-200:0.1:200]
+prism_17_rot_x = 90.193954; // [-180:0.1:180]
+prism_17_rot_y = 3.784829; // [-180:0.1:180]
+prism_17_rot_z = 90.002706; // [-180:0.1:180]
+prism_17_w = 2.814; // [0:0.1:200]
+prism_17_h = 14.7283; // [0:0.1:200]
+prism_17_depth = 5.5657; // [0:0.1:200]
+prism_17_apex = -1.515343; // [-4:0.01:4]
 
-/* [Ellipsoid 18] */
-ellipsoid_18_cx = 4.0226; // [-100:0.01:100]
-ellipsoid_18_cy = -2.9542; // [-100:0.01:100]
-ellipsoid_18_cz = 0.4236; // [-100:0.01:100]
-ellipsoid_18_rot_x = -40.313113; // [-180:0.1:180]
-ellipsoid_18_rot_y = 51.382044; // [-180:0.1:180]
-ellipsoid_18_rot_z = 121.937631; // [-180:0.1:180]
-ellipsoid_18_rx = 16.7177; // [0:0.01:100]
-ellipsoid_18_ry = 2.2725; // [0:0.01:100]
-ellipsoid_18_rz = 2.1811; // [0:0.01:100]
-
-/* [Prism 19] */
-prism_19_cx = 3.2418; // [-100:0.01:100]
-prism_19_cy = -4.3984; // [-100:0.01:100]
-prism_19_cz = -0.2156; // [-100:0.01:100]
-prism_19_rot_x = 178.130108; // [-180:0.1:180]
-prism_19_rot_y = 0.677333; // [-180:0.1:180]
-prism_19_rot_z = 12.006705; // [-180:0.1:180]
-prism_19_w = 3.715; // [0:0.01:100]
-prism_19_h = 6.2506; // [0:0.01:100]
-prism_19_depth = 3.748; // [0:0.01:100]
-prism_19_apex = 0.330681; // [-4:0.01:4]
-
-/* [Box 20] */
-box_20_cx = 2.3793; // [-100:0.01:100]
-box_20_cy = -3.2985; // [-100:0.01:100]
-box_20_cz = 1.114; // [-100:0.01:100]
-box_20_rot_x = 48.113841; // [-180:0.1:180]
-box_20_rot_y = -89.369658; // [-180:0.1:180]
-box_20_rot_z = -47.57704; // [-180:0.1:180]
-box_20_size_x = 4.4236; // [0:0.01:100]
-box_20_size_y = 2.4228; // [0:0.01:100]
-box_20_size_z = 2.6744; // [0:0.01:100]
-
-/* [Box 21] */
-box_21_cx = 2.2221; // [-100:0.01:100]
-box_21_cy = 2.0284; // [-100:0.01:100]
-box_21_cz = -0.1501; // [-100:0.01:100]
-box_21_rot_x = 176.523442; // [-180:0.1:180]
-box_21_rot_y = 6.13452; // [-180:0.1:180]
-box_21_rot_z = 90.68454; // [-180:0.1:180]
-box_21_size_x = 4.9825; // [0:0.01:100]
-box_21_size_y = 5.4841; // [0:0.01:100]
-box_21_size_z = 3.2231; // [0:0.01:100]
-
-/* [Ellipsoid 22] */
-ellipsoid_22_cx = 1.0703; // [-100:0.01:100]
-ellipsoid_22_cy = 0.4719; // [-100:0.01:100]
-ellipsoid_22_cz = 0.4078; // [-100:0.01:100]
-ellipsoid_22_rot_x = 101.420432; // [-180:0.1:180]
-ellipsoid_22_rot_y = 7.775388; // [-180:0.1:180]
-ellipsoid_22_rot_z = 46.873896; // [-180:0.1:180]
-ellipsoid_22_rx = 2.9271; // [0:0.01:100]
-ellipsoid_22_ry = 4.1551; // [0:0.01:100]
-ellipsoid_22_rz = 2.2038; // [0:0.01:100]
-
-/* [Box 23] */
-box_23_cx = 1.7779; // [-100:0.01:100]
-box_23_cy = 2.5657; // [-100:0.01:100]
-box_23_cz = -0.2386; // [-100:0.01:100]
-box_23_rot_x = 90.004886; // [-180:0.1:180]
-box_23_rot_y = -2.319913; // [-180:0.1:180]
-box_23_rot_z = -0.885907; // [-180:0.1:180]
-box_23_size_x = 3.9313; // [0:0.01:100]
-box_23_size_y = 3.5752; // [0:0.01:100]
-box_23_size_z = 1.0725; // [0:0.01:100]
-
-/* [Cone 24] */
-cone_24_cx = -0.04; // [-100:0.01:100]
-cone_24_cy = 3.5541; // [-100:0.01:100]
-cone_24_cz = 1.9139; // [-100:0.01:100]
-cone_24_rot_x = 55.402416; // [-180:0.1:180]
-cone_24_rot_y = 94.898796; // [-180:0.1:180]
-cone_24_r1 = 2.4254; // [0:0.01:100]
-cone_24_r2 = 1.5492; // [0:0.01:100]
-cone_24_h = 3.6925; // [0:0.01:100]
-
-/* [Prism 25] */
-prism_25_cx = 2.728; // [-100:0.01:100]
-prism_25_cy = 4.3094; // [-100:0.01:100]
-prism_25_cz = -1.3073; // [-100:0.01:100]
-prism_25_rot_x = -86.170019; // [-180:0.1:180]
-prism_25_rot_y = 41.693197; // [-180:0.1:180]
-prism_25_rot_z = -177.622947; // [-180:0.1:180]
-prism_25_w = 7.8407; // [0:0.01:100]
-prism_25_h = 3.8097; // [0:0.01:100]
-prism_25_depth = 1.4194; // [0:0.01:100]
-prism_25_apex = -0.257869; // [-4:0.01:4]
+/* [Cylinder 18] */
+cyl_18_cx = 3.5879; // [-200:0.1:200]
+cyl_18_cy = -0.7063; // [-200:0.1:200]
+cyl_18_cz = -0.3411; // [-200:0.1:200]
+cyl_18_rot_y = 180; // [-180:0.1:180]
+cyl_18_h = 3.8251; // [0:0.1:200]
 
 /* [Hidden] */
 $fn = segments;
@@ -292,57 +197,32 @@ function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
 
 module csg_high_res() {
   difference() {
-    translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, 0, 0]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-    difference() {
-      translate([box_2_cx, box_2_cy, box_2_cz]) rotate([0, box_2_rot_y, box_2_rot_z]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
+    union() {
       difference() {
-        translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
-        difference() {
-          translate([box_4_cx, box_4_cy, box_4_cz]) rotate([box_4_rot_x, box_4_rot_y, box_4_rot_z]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
+        union() {
           difference() {
-            translate([cone_5_cx, cone_5_cy, cone_5_cz]) rotate([cone_5_rot_x, cone_5_rot_y, 0]) cylinder(h = cone_5_h, r1 = fn_r(cone_5_r1), r2 = fn_r(cone_5_r2), center = true);
-            translate([box_6_cx, box_6_cy, box_6_cz]) rotate([box_6_rot_x, box_6_rot_y, box_6_rot_z]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
+            translate([box_1_cx, box_1_cy, box_1_cz]) rotate([0, box_1_rot_y, 0]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
+            translate([prism_2_cx, prism_2_cy, prism_2_cz]) rotate([prism_2_rot_x, prism_2_rot_y, prism_2_rot_z]) linear_extrude(height = prism_2_depth, center = true) polygon([[-prism_2_w / 2, -prism_2_h / 2], [prism_2_w / 2, -prism_2_h / 2], [prism_2_apex * prism_2_w / 2, prism_2_h / 2]]);
           }
-          translate([cone_7_cx, cone_7_cy, cone_7_cz]) rotate([cone_7_rot_x, cone_7_rot_y, 0]) cylinder(h = cone_7_h, r1 = fn_r(cone_7_r1), r2 = fn_r(cone_7_r2), center = true);
+          translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) rotate([cyl_3_rot_x, cyl_3_rot_y, 0]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
         }
-        difference() {
-          translate([ellipsoid_8_cx, ellipsoid_8_cy, ellipsoid_8_cz]) rotate([ellipsoid_8_rot_x, ellipsoid_8_rot_y, ellipsoid_8_rot_z]) scale([ellipsoid_8_rx, ellipsoid_8_ry, ellipsoid_8_rz]) sphere(r = fn_sr(1));
-          translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, 0, 0]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
-        }
+        translate([cyl_4_cx, cyl_4_cy, cyl_4_cz]) rotate([cyl_4_rot_x, 0, 0]) cylinder(h = cyl_4_h, r = fn_r(cyl_4_r), center = true);
+        translate([cyl_5_cx, cyl_5_cy, cyl_5_cz]) rotate([0, cyl_5_rot_y, 0]) cylinder(h = cyl_5_h, r = fn_r(hole_r), center = true);
       }
-      difference() {
-        translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
-        difference() {
-          translate([box_11_cx, box_11_cy, box_11_cz]) rotate([box_11_rot_x, box_11_rot_y, box_11_rot_z]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
-          translate([prism_12_cx, prism_12_cy, prism_12_cz]) rotate([0, 0, prism_12_rot_z]) linear_extrude(height = prism_12_depth, center = true) polygon([[-prism_12_w / 2, -prism_12_h / 2], [prism_12_w / 2, -prism_12_h / 2], [prism_12_apex * prism_12_w / 2, prism_12_h / 2]]);
-        }
-        translate([prism_13_cx, prism_13_cy, prism_13_cz]) rotate([prism_13_rot_x, prism_13_rot_y, prism_13_rot_z]) linear_extrude(height = prism_13_depth, center = true) polygon([[-prism_13_w / 2, -prism_13_h / 2], [prism_13_w / 2, -prism_13_h / 2], [prism_13_apex * prism_13_w / 2, prism_13_h / 2]]);
-      }
+      translate([box_6_cx, box_6_cy, box_6_cz]) rotate([0, box_6_rot_y, 0]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
+      translate([cone_7_cx, cone_7_cy, cone_7_cz]) rotate([cone_7_rot_x, 0, 0]) cylinder(h = cone_7_h, r1 = fn_r(cone_7_r1), r2 = fn_r(cone_7_r2), center = true);
+      translate([box_8_cx, box_8_cy, box_8_cz]) rotate([box_8_rot_x, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
+      translate([cyl_9_cx, cyl_9_cy, cyl_9_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
+      translate([cyl_10_cx, cyl_10_cy, cyl_10_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
+      translate([cyl_11_cx, cyl_11_cy, cyl_11_cz]) rotate([cyl_11_rot_x, cyl_11_rot_y, 0]) cylinder(h = cyl_11_h, r = fn_r(cyl_11_r), center = true);
+      translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, 0, 0]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
+      translate([prism_13_cx, prism_13_cy, prism_13_cz]) rotate([prism_13_rot_x, prism_13_rot_y, prism_13_rot_z]) linear_extrude(height = prism_13_depth, center = true) polygon([[-prism_13_w / 2, -prism_13_h / 2], [prism_13_w / 2, -prism_13_h / 2], [prism_13_apex * prism_13_w / 2, prism_13_h / 2]]);
+      translate([ellipsoid_14_cx, ellipsoid_14_cy, ellipsoid_14_cz]) rotate([ellipsoid_14_rot_x, ellipsoid_14_rot_y, ellipsoid_14_rot_z]) scale([ellipsoid_14_rx, ellipsoid_14_ry, ellipsoid_14_rz]) sphere(r = fn_sr(1));
     }
-    difference() {
-      translate([box_14_cx, box_14_cy, box_14_cz]) rotate([box_14_rot_x, box_14_rot_y, box_14_rot_z]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);
-      difference() {
-        translate([prism_15_cx, prism_15_cy, prism_15_cz]) rotate([prism_15_rot_x, prism_15_rot_y, prism_15_rot_z]) linear_extrude(height = prism_15_depth, center = true) polygon([[-prism_15_w / 2, -prism_15_h / 2], [prism_15_w / 2, -prism_15_h / 2], [prism_15_apex * prism_15_w / 2, prism_15_h / 2]]);
-        difference() {
-          translate([ellipsoid_16_cx, ellipsoid_16_cy, ellipsoid_16_cz]) rotate([ellipsoid_16_rot_x, ellipsoid_16_rot_y, ellipsoid_16_rot_z]) scale([ellipsoid_16_rx, ellipsoid_16_ry, ellipsoid_16_rz]) sphere(r = fn_sr(1));
-          translate([box_17_cx, box_17_cy, box_17_cz]) cube([box_17_size_x, box_17_size_y, box_17_size_z], center = true);
-        }
-        difference() {
-          translate([ellipsoid_18_cx, ellipsoid_18_cy, ellipsoid_18_cz]) rotate([ellipsoid_18_rot_x, ellipsoid_18_rot_y, ellipsoid_18_rot_z]) scale([ellipsoid_18_rx, ellipsoid_18_ry, ellipsoid_18_rz]) sphere(r = fn_sr(1));
-          difference() {
-            translate([prism_19_cx, prism_19_cy, prism_19_cz]) rotate([prism_19_rot_x, prism_19_rot_y, prism_19_rot_z]) linear_extrude(height = prism_19_depth, center = true) polygon([[-prism_19_w / 2, -prism_19_h / 2], [prism_19_w / 2, -prism_19_h / 2], [prism_19_apex * prism_19_w / 2, prism_19_h / 2]]);
-            translate([box_20_cx, box_20_cy, box_20_cz]) rotate([box_20_rot_x, box_20_rot_y, box_20_rot_z]) cube([box_20_size_x, box_20_size_y, box_20_size_z], center = true);
-          }
-        }
-      }
-      difference() {
-        translate([box_21_cx, box_21_cy, box_21_cz]) rotate([box_21_rot_x, box_21_rot_y, box_21_rot_z]) cube([box_21_size_x, box_21_size_y, box_21_size_z], center = true);
-        translate([ellipsoid_22_cx, ellipsoid_22_cy, ellipsoid_22_cz]) rotate([ellipsoid_22_rot_x, ellipsoid_22_rot_y, ellipsoid_22_rot_z]) scale([ellipsoid_22_rx, ellipsoid_22_ry, ellipsoid_22_rz]) sphere(r = fn_sr(1));
-        translate([box_23_cx, box_23_cy, box_23_cz]) rotate([box_23_rot_x, box_23_rot_y, box_23_rot_z]) cube([box_23_size_x, box_23_size_y, box_23_size_z], center = true);
-        translate([cone_24_cx, cone_24_cy, cone_24_cz]) rotate([cone_24_rot_x, cone_24_rot_y, 0]) cylinder(h = cone_24_h, r1 = fn_r(cone_24_r1), r2 = fn_r(cone_24_r2), center = true);
-        translate([prism_25_cx, prism_25_cy, prism_25_cz]) rotate([prism_25_rot_x, prism_25_rot_y, prism_25_rot_z]) linear_extrude(height = prism_25_depth, center = true) polygon([[-prism_25_w / 2, -prism_25_h / 2], [prism_25_w / 2, -prism_25_h / 2], [prism_25_apex * prism_25_w / 2, prism_25_h / 2]]);
-      }
-    }
+    translate([ellipsoid_15_cx, ellipsoid_15_cy, ellipsoid_15_cz]) rotate([ellipsoid_15_rot_x, ellipsoid_15_rot_y, ellipsoid_15_rot_z]) scale([ellipsoid_15_rx, ellipsoid_15_ry, ellipsoid_15_rz]) sphere(r = fn_sr(1));
+    translate([cyl_16_cx, cyl_16_cy, cyl_16_cz]) rotate([cyl_16_rot_x, cyl_16_rot_y, 0]) cylinder(h = cyl_16_h, r = fn_r(cyl_16_r), center = true);
+    translate([prism_17_cx, prism_17_cy, prism_17_cz]) rotate([prism_17_rot_x, prism_17_rot_y, prism_17_rot_z]) linear_extrude(height = prism_17_depth, center = true) polygon([[-prism_17_w / 2, -prism_17_h / 2], [prism_17_w / 2, -prism_17_h / 2], [prism_17_apex * prism_17_w / 2, prism_17_h / 2]]);
+    translate([cyl_18_cx, cyl_18_cy, cyl_18_cz]) rotate([0, cyl_18_rot_y, 0]) cylinder(h = cyl_18_h, r = fn_r(hole_r), center = true);
   }
 }
 

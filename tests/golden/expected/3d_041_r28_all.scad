@@ -9,187 +9,197 @@ segments = 64; // [12:1:360]
 /* [Box 1] */
 box_1_cx = 0; // [-50:0.01:50]
 box_1_cy = 0; // [-50:0.01:50]
-box_1_cz = 0; // [-50:0.01:50]
+box_1_cz = -0.0011; // [-50:0.01:50]
 box_1_size_x = 5.9286; // [0:0.01:50]
 box_1_size_y = 2.381; // [0:0.01:50]
-box_1_size_z = 10; // [0:0.01:50]
+box_1_size_z = 9.5858; // [0:0.01:50]
 
 /* [Box 2] */
-box_2_cx = -2.7797; // [-50:0.01:50]
-box_2_cy = -0.4564; // [-50:0.01:50]
-box_2_cz = -0.0127; // [-50:0.01:50]
-box_2_rot_x = -89.292381; // [-180:0.1:180]
-box_2_rot_y = -88.626259; // [-180:0.1:180]
-box_2_rot_z = 84.456729; // [-180:0.1:180]
-box_2_size_x = 9.871; // [0:0.01:50]
-box_2_size_y = 1.6884; // [0:0.01:50]
-box_2_size_z = 0.1328; // [0:0.01:50]
+box_2_cx = 0; // [-50:0.01:50]
+box_2_cy = 0; // [-50:0.01:50]
+box_2_cz = -2.4978; // [-50:0.01:50]
+box_2_size_x = 5.9286; // [0:0.01:50]
+box_2_size_y = 2.381; // [0:0.01:50]
+box_2_size_z = 5.0044; // [0:0.01:50]
 
-/* [Box 3] */
-box_3_cx = -0.1372; // [-50:0.01:50]
-box_3_cy = 0.0071; // [-50:0.01:50]
-box_3_cz = -2.8546; // [-50:0.01:50]
-box_3_rot_x = -17.677897; // [-180:0.1:180]
-box_3_rot_y = 9.201588; // [-180:0.1:180]
-box_3_rot_z = 25.589171; // [-180:0.1:180]
-box_3_size_x = 7.0836; // [0:0.01:50]
-box_3_size_y = 12.8822; // [0:0.01:50]
-box_3_size_z = 5.4017; // [0:0.01:50]
+/* [Ellipsoid 3] */
+ellipsoid_3_cx = -1.9643; // [-50:0.01:50]
+ellipsoid_3_cy = 0.4464; // [-50:0.01:50]
+ellipsoid_3_cz = -2.5; // [-50:0.01:50]
+ellipsoid_3_rot_x = -90.030599; // [-180:0.1:180]
+ellipsoid_3_rot_y = 9.197399; // [-180:0.1:180]
+ellipsoid_3_rot_z = -88.722195; // [-180:0.1:180]
+ellipsoid_3_rx = 4.3837; // [0:0.01:50]
+ellipsoid_3_ry = 3.8021; // [0:0.01:50]
+ellipsoid_3_rz = 1.8891; // [0:0.01:50]
 
-/* [Ellipsoid 4] */
-ellipsoid_4_cx = -1.9201; // [-50:0.01:50]
-ellipsoid_4_cy = 0.8867; // [-50:0.01:50]
-ellipsoid_4_cz = -2.5912; // [-50:0.01:50]
-ellipsoid_4_rot_x = -13.284753; // [-180:0.1:180]
-ellipsoid_4_rot_y = -0.982834; // [-180:0.1:180]
-ellipsoid_4_rot_z = 0.435014; // [-180:0.1:180]
-ellipsoid_4_rx = 1.7877; // [0:0.01:50]
-ellipsoid_4_ry = 4.6892; // [0:0.01:50]
-ellipsoid_4_rz = 3.1203; // [0:0.01:50]
+/* [Box 4] */
+box_4_cx = 1.3897; // [-50:0.01:50]
+box_4_cy = 0.5374; // [-50:0.01:50]
+box_4_cz = -1.257; // [-50:0.01:50]
+box_4_rot_y = -90; // [-180:0.1:180]
+box_4_rot_z = 90; // [-180:0.1:180]
+box_4_size_x = 3.9145; // [0:0.01:50]
+box_4_size_y = 3.1492; // [0:0.01:50]
+box_4_size_z = 3.4558; // [0:0.01:50]
 
 /* [Box 5] */
-box_5_cx = -1.18; // [-50:0.01:50]
-box_5_cy = 0; // [-50:0.01:50]
-box_5_cz = -4.1071; // [-50:0.01:50]
-box_5_rot_x = 180; // [-180:0.1:180]
+box_5_cx = 1.3024; // [-50:0.01:50]
+box_5_cy = -0.7052; // [-50:0.01:50]
+box_5_cz = -1.2428; // [-50:0.01:50]
+box_5_rot_y = 90; // [-180:0.1:180]
 box_5_rot_z = 90; // [-180:0.1:180]
-box_5_size_x = 2.381; // [0:0.01:50]
-box_5_size_y = 2.1877; // [0:0.01:50]
-box_5_size_z = 1.7857; // [0:0.01:50]
+box_5_size_x = 2.7525; // [0:0.01:50]
+box_5_size_y = 6.3114; // [0:0.01:50]
+box_5_size_z = 2.1248; // [0:0.01:50]
 
 /* [Box 6] */
-box_6_cx = -0.915; // [-50:0.01:50]
-box_6_cy = -0.4167; // [-50:0.01:50]
-box_6_cz = -1.2828; // [-50:0.01:50]
-box_6_rot_y = -90; // [-180:0.1:180]
-box_6_rot_z = -90; // [-180:0.1:180]
-box_6_size_x = 2.6724; // [0:0.01:50]
-box_6_size_y = 2.7176; // [0:0.01:50]
-box_6_size_z = 1.5476; // [0:0.01:50]
+box_6_cx = 0; // [-50:0.01:50]
+box_6_cy = 0; // [-50:0.01:50]
+box_6_cz = 2.5; // [-50:0.01:50]
+box_6_size_x = 5.9286; // [0:0.01:50]
+box_6_size_y = 2.381; // [0:0.01:50]
+box_6_size_z = 5; // [0:0.01:50]
 
-/* [Prism 7] */
-prism_7_cx = 0.9508; // [-50:0.01:50]
-prism_7_cy = 0.2322; // [-50:0.01:50]
-prism_7_cz = -1.9616; // [-50:0.01:50]
-prism_7_rot_x = -89.615206; // [-180:0.1:180]
-prism_7_rot_y = 78.739969; // [-180:0.1:180]
-prism_7_rot_z = 44.859411; // [-180:0.1:180]
-prism_7_w = 3.423; // [0:0.01:50]
-prism_7_h = 4.3994; // [0:0.01:50]
-prism_7_depth = 2.6551; // [0:0.01:50]
-prism_7_apex = 0.491644; // [-4:0.01:4]
+/* [Box 7] */
+box_7_cx = -1.587; // [-50:0.01:50]
+box_7_cy = 0; // [-50:0.01:50]
+box_7_cz = 2.1429; // [-50:0.01:50]
+box_7_size_x = 2.7545; // [0:0.01:50]
+box_7_size_y = 2.381; // [0:0.01:50]
+box_7_size_z = 5.3571; // [0:0.01:50]
 
-/* [Prism 8] */
-prism_8_cx = 0.2588; // [-50:0.01:50]
-prism_8_cy = -0.3523; // [-50:0.01:50]
-prism_8_cz = -0.9069; // [-50:0.01:50]
-prism_8_rot_x = 175.684393; // [-180:0.1:180]
-prism_8_rot_y = 0.524457; // [-180:0.1:180]
-prism_8_rot_z = -1.184459; // [-180:0.1:180]
-prism_8_w = 7.694; // [0:0.01:50]
-prism_8_h = 1.7432; // [0:0.01:50]
-prism_8_depth = 3.3835; // [0:0.01:50]
-prism_8_apex = 0.441624; // [-4:0.01:4]
+/* [Box 8] */
+box_8_cx = -1.0218; // [-50:0.01:50]
+box_8_cy = -0.4167; // [-50:0.01:50]
+box_8_cz = 1.1599; // [-50:0.01:50]
+box_8_rot_y = -90; // [-180:0.1:180]
+box_8_rot_z = -90; // [-180:0.1:180]
+box_8_size_x = 2.9184; // [0:0.01:50]
+box_8_size_y = 2.504; // [0:0.01:50]
+box_8_size_z = 1.5476; // [0:0.01:50]
 
-/* [Ellipsoid 9] */
-ellipsoid_9_cx = 0.5358; // [-50:0.01:50]
-ellipsoid_9_cy = -1.4028; // [-50:0.01:50]
-ellipsoid_9_cz = 2.6595; // [-50:0.01:50]
-ellipsoid_9_rot_x = -85.726189; // [-180:0.1:180]
-ellipsoid_9_rot_y = -58.089466; // [-180:0.1:180]
-ellipsoid_9_rot_z = 5.005513; // [-180:0.1:180]
-ellipsoid_9_rx = 3.7701; // [0:0.01:50]
-ellipsoid_9_ry = 3.7166; // [0:0.01:50]
-ellipsoid_9_rz = 6.0829; // [0:0.01:50]
+/* [Box 9] */
+box_9_cx = 1.4423; // [-50:0.01:50]
+box_9_cy = 0.1786; // [-50:0.01:50]
+box_9_cz = 1.607; // [-50:0.01:50]
+box_9_rot_x = -0.004657; // [-180:0.1:180]
+box_9_rot_y = -0.009838; // [-180:0.1:180]
+box_9_rot_z = 0.419826; // [-180:0.1:180]
+box_9_size_x = 3.2794; // [0:0.01:50]
+box_9_size_y = 2.5; // [0:0.01:50]
+box_9_size_z = 3.2146; // [0:0.01:50]
 
-/* [Prism 10] */
-prism_10_cx = -3.9519; // [-50:0.01:50]
-prism_10_cy = -0.6061; // [-50:0.01:50]
-prism_10_cz = 1.3669; // [-50:0.01:50]
-prism_10_rot_x = -53.412821; // [-180:0.1:180]
-prism_10_rot_y = -5.133676; // [-180:0.1:180]
-prism_10_rot_z = 98.140968; // [-180:0.1:180]
-prism_10_w = 6.1382; // [0:0.01:50]
-prism_10_h = 7.5151; // [0:0.01:50]
-prism_10_depth = 6.5214; // [0:0.01:50]
-prism_10_apex = -0.022799; // [-4:0.01:4]
+/* [Box 10] */
+box_10_cx = 0.417; // [-50:0.01:50]
+box_10_cy = 0.1319; // [-50:0.01:50]
+box_10_cz = 1.2991; // [-50:0.01:50]
+box_10_size_x = 1.5864; // [0:0.01:50]
+box_10_size_y = 2.6448; // [0:0.01:50]
+box_10_size_z = 2.6398; // [0:0.01:50]
 
 /* [Box 11] */
-box_11_cx = -0.69; // [-50:0.01:50]
-box_11_cy = -0.4167; // [-50:0.01:50]
-box_11_cz = 1.3635; // [-50:0.01:50]
-box_11_rot_z = 90; // [-180:0.1:180]
-box_11_size_x = 1.5476; // [0:0.01:50]
-box_11_size_y = 3.1677; // [0:0.01:50]
-box_11_size_z = 2.511; // [0:0.01:50]
+box_11_cx = 0.5222; // [-50:0.01:50]
+box_11_cy = 0.7738; // [-50:0.01:50]
+box_11_cz = 1.9566; // [-50:0.01:50]
+box_11_rot_x = 90; // [-180:0.1:180]
+box_11_rot_y = 7.565622; // [-180:0.1:180]
+box_11_size_x = 2.207; // [0:0.01:50]
+box_11_size_y = 1.3991; // [0:0.01:50]
+box_11_size_z = 0.8333; // [0:0.01:50]
 
-/* [Box 12] */
-box_12_cx = -0.8265; // [-50:0.01:50]
-box_12_cy = 0.0175; // [-50:0.01:50]
-box_12_cz = 5.8769; // [-50:0.01:50]
-box_12_rot_x = -172.617679; // [-180:0.1:180]
-box_12_rot_y = 0.299492; // [-180:0.1:180]
-box_12_rot_z = 89.584611; // [-180:0.1:180]
-box_12_size_x = 2.489; // [0:0.01:50]
-box_12_size_y = 2.2909; // [0:0.01:50]
-box_12_size_z = 5.4105; // [0:0.01:50]
+/* [Cylinder 12] */
+cyl_12_cx = 2.2167; // [-50:0.01:50]
+cyl_12_cy = -2.0765; // [-50:0.01:50]
+cyl_12_cz = 1.3581; // [-50:0.01:50]
+cyl_12_rot_x = -1.995419; // [-180:0.1:180]
+cyl_12_rot_y = -0.537313; // [-180:0.1:180]
+cyl_12_r = 2.5943; // [0:0.01:50]
+cyl_12_h = 2.6492; // [0:0.01:50]
 
 /* [Box 13] */
-box_13_cx = 1.7171; // [-50:0.01:50]
-box_13_cy = 0.2391; // [-50:0.01:50]
-box_13_cz = 1.5153; // [-50:0.01:50]
-box_13_size_x = 3.1176; // [0:0.01:50]
-box_13_size_y = 2.8591; // [0:0.01:50]
-box_13_size_z = 3.398; // [0:0.01:50]
+box_13_cx = -2.7729; // [-50:0.01:50]
+box_13_cy = -0.3538; // [-50:0.01:50]
+box_13_cz = 0.3423; // [-50:0.01:50]
+box_13_rot_x = -70.509969; // [-180:0.1:180]
+box_13_rot_y = -89.823266; // [-180:0.1:180]
+box_13_rot_z = 65.357408; // [-180:0.1:180]
+box_13_size_x = 9.8866; // [0:0.01:50]
+box_13_size_y = 1.4739; // [0:0.01:50]
+box_13_size_z = 0.1269; // [0:0.01:50]
 
-/* [Torus 14] */
-torus_14_cx = 0.5415; // [-50:0.01:50]
-torus_14_cy = 0.8667; // [-50:0.01:50]
-torus_14_cz = 0.8877; // [-50:0.01:50]
-torus_14_rot_x = 3.67948; // [-180:0.1:180]
-torus_14_rot_y = -103.886918; // [-180:0.1:180]
-torus_14_major_r = 0.9901; // [0:0.01:50]
-torus_14_minor_r = 0.9901; // [0:0.01:50]
+/* [Box 14] */
+box_14_cx = -1.196; // [-50:0.01:50]
+box_14_cy = -0.0032; // [-50:0.01:50]
+box_14_cz = -4.0514; // [-50:0.01:50]
+box_14_rot_x = 174.98634; // [-180:0.1:180]
+box_14_rot_y = -0.1414; // [-180:0.1:180]
+box_14_rot_z = 89.93883; // [-180:0.1:180]
+box_14_size_x = 2.1881; // [0:0.01:50]
+box_14_size_y = 2.02; // [0:0.01:50]
+box_14_size_z = 1.4735; // [0:0.01:50]
 
 /* [Box 15] */
-box_15_cx = 0.7036; // [-50:0.01:50]
-box_15_cy = 0.7732; // [-50:0.01:50]
-box_15_cz = 2.144; // [-50:0.01:50]
-box_15_rot_x = 101.826702; // [-180:0.1:180]
-box_15_rot_y = 9.93826; // [-180:0.1:180]
-box_15_rot_z = -0.026497; // [-180:0.1:180]
-box_15_size_x = 2.9208; // [0:0.01:50]
-box_15_size_y = 1.7238; // [0:0.01:50]
-box_15_size_z = 0.8332; // [0:0.01:50]
+box_15_cx = -1.1919; // [-50:0.01:50]
+box_15_cy = -0.4167; // [-50:0.01:50]
+box_15_cz = -0.5322; // [-50:0.01:50]
+box_15_rot_y = -90; // [-180:0.1:180]
+box_15_rot_z = -90; // [-180:0.1:180]
+box_15_size_x = 4.1736; // [0:0.01:50]
+box_15_size_y = 2.1638; // [0:0.01:50]
+box_15_size_z = 1.5476; // [0:0.01:50]
 
-/* [Cone 16] */
-cone_16_cx = 2.1092; // [-50:0.01:50]
-cone_16_cy = -2.734; // [-50:0.01:50]
-cone_16_cz = 1.0525; // [-50:0.01:50]
-cone_16_r1 = 3.3139; // [0:0.01:50]
-cone_16_r2 = 3.265; // [0:0.01:50]
-cone_16_h = 3.133; // [0:0.01:50]
+/* [Prism 16] */
+prism_16_cx = 2.6303; // [-50:0.01:50]
+prism_16_cy = -0.8181; // [-50:0.01:50]
+prism_16_cz = -2.9423; // [-50:0.01:50]
+prism_16_rot_x = 179.134076; // [-180:0.1:180]
+prism_16_rot_y = -1.36012; // [-180:0.1:180]
+prism_16_rot_z = 45.322148; // [-180:0.1:180]
+prism_16_w = 2.5263; // [0:0.01:50]
+prism_16_h = 1.2043; // [0:0.01:50]
+prism_16_depth = 1.1782; // [0:0.01:50]
+prism_16_apex = 0.257852; // [-4:0.01:4]
 
-/* [Prism 17] */
-prism_17_cx = 2.6493; // [-50:0.01:50]
-prism_17_cy = -0.801; // [-50:0.01:50]
-prism_17_cz = 2.7446; // [-50:0.01:50]
-prism_17_rot_x = 179.474165; // [-180:0.1:180]
-prism_17_rot_y = 0.020938; // [-180:0.1:180]
-prism_17_rot_z = 44.957225; // [-180:0.1:180]
-prism_17_w = 2.4059; // [0:0.01:50]
-prism_17_h = 1.1975; // [0:0.01:50]
-prism_17_depth = 0.9495; // [0:0.01:50]
-prism_17_apex = 0.004465; // [-4:0.01:4]
+/* [Box 17] */
+box_17_cx = -0.9731; // [-50:0.01:50]
+box_17_cy = 0.0153; // [-50:0.01:50]
+box_17_cz = 6.5144; // [-50:0.01:50]
+box_17_rot_x = -173.620416; // [-180:0.1:180]
+box_17_rot_y = 0.046657; // [-180:0.1:180]
+box_17_rot_z = 89.936569; // [-180:0.1:180]
+box_17_size_x = 2.4935; // [0:0.01:50]
+box_17_size_y = 1.9236; // [0:0.01:50]
+box_17_size_z = 6.6828; // [0:0.01:50]
 
-/* [Box 18] */
-box_18_cx = -2.8571; // [-50:0.01:50]
-box_18_cy = 1.5974; // [-50:0.01:50]
-box_18_cz = 0.1177; // [-50:0.01:50]
-box_18_rot_y = -90; // [-180:0.1:180]
-box_18_size_x = 10.2353; // [0:0.01:50]
-box_18_size_y = 2.4806; // [0:0.01:50]
-box_18_size_z = 0.2143; // [0:0.01:50]
+/* [Prism 18] */
+prism_18_cx = 2.6378; // [-50:0.01:50]
+prism_18_cy = -0.8126; // [-50:0.01:50]
+prism_18_cz = 3.2181; // [-50:0.01:50]
+prism_18_rot_x = 179.536073; // [-180:0.1:180]
+prism_18_rot_y = -0.201304; // [-180:0.1:180]
+prism_18_rot_z = 45.124551; // [-180:0.1:180]
+prism_18_w = 3.3012; // [0:0.01:50]
+prism_18_h = 1.206; // [0:0.01:50]
+prism_18_depth = 1.1913; // [0:0.01:50]
+prism_18_apex = 0.747732; // [-4:0.01:4]
+
+/* [Box 19] */
+box_19_cx = -2.8571; // [-50:0.01:50]
+box_19_cy = 1.6995; // [-50:0.01:50]
+box_19_cz = 0; // [-50:0.01:50]
+box_19_rot_y = -90; // [-180:0.1:180]
+box_19_size_x = 10; // [0:0.01:50]
+box_19_size_y = 2.6846; // [0:0.01:50]
+box_19_size_z = 0.2143; // [0:0.01:50]
+
+/* [Cylinder 20] */
+cyl_20_cx = 0.3454; // [-50:0.01:50]
+cyl_20_cy = 0.7862; // [-50:0.01:50]
+cyl_20_cz = 0.0001; // [-50:0.01:50]
+cyl_20_rot_x = -90; // [-180:0.1:180]
+cyl_20_r = 1.3688; // [0:0.01:50]
+cyl_20_h = 6.4874; // [0:0.01:50]
 
 /* [Hidden] */
 $fn = segments;
@@ -208,46 +218,40 @@ function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :
 function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
   fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
 
-// A torus about the z axis: the circle of radius r at distance R, revolved. With
-// equal-area fn_r, stretching the profile by fn_r(1) across the axis gives the
-// revolved $fn-gon the torus's volume; min() keeps it off the axis when r = R.
-module csg_torus(R, r)
-  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), R / r), 1]) circle(r = fn_r(r));
-
 module csg_high_res() {
   difference() {
     translate([box_1_cx, box_1_cy, box_1_cz]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-    translate([box_2_cx, box_2_cy, box_2_cz]) rotate([box_2_rot_x, box_2_rot_y, box_2_rot_z]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
     difference() {
-      translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
+      translate([box_2_cx, box_2_cy, box_2_cz]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
+      translate([ellipsoid_3_cx, ellipsoid_3_cy, ellipsoid_3_cz]) rotate([ellipsoid_3_rot_x, ellipsoid_3_rot_y, ellipsoid_3_rot_z]) scale([ellipsoid_3_rx, ellipsoid_3_ry, ellipsoid_3_rz]) sphere(r = fn_sr(1));
       difference() {
-        translate([ellipsoid_4_cx, ellipsoid_4_cy, ellipsoid_4_cz]) rotate([ellipsoid_4_rot_x, ellipsoid_4_rot_y, ellipsoid_4_rot_z]) scale([ellipsoid_4_rx, ellipsoid_4_ry, ellipsoid_4_rz]) sphere(r = fn_sr(1));
-        translate([box_5_cx, box_5_cy, box_5_cz]) rotate([box_5_rot_x, 0, box_5_rot_z]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
-        translate([box_6_cx, box_6_cy, box_6_cz]) rotate([0, box_6_rot_y, box_6_rot_z]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
-      }
-      difference() {
-        translate([prism_7_cx, prism_7_cy, prism_7_cz]) rotate([prism_7_rot_x, prism_7_rot_y, prism_7_rot_z]) linear_extrude(height = prism_7_depth, center = true) polygon([[-prism_7_w / 2, -prism_7_h / 2], [prism_7_w / 2, -prism_7_h / 2], [prism_7_apex * prism_7_w / 2, prism_7_h / 2]]);
-        translate([prism_8_cx, prism_8_cy, prism_8_cz]) rotate([prism_8_rot_x, prism_8_rot_y, prism_8_rot_z]) linear_extrude(height = prism_8_depth, center = true) polygon([[-prism_8_w / 2, -prism_8_h / 2], [prism_8_w / 2, -prism_8_h / 2], [prism_8_apex * prism_8_w / 2, prism_8_h / 2]]);
+        translate([box_4_cx, box_4_cy, box_4_cz]) rotate([0, box_4_rot_y, box_4_rot_z]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
+        translate([box_5_cx, box_5_cy, box_5_cz]) rotate([0, box_5_rot_y, box_5_rot_z]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
       }
     }
     difference() {
-      translate([ellipsoid_9_cx, ellipsoid_9_cy, ellipsoid_9_cz]) rotate([ellipsoid_9_rot_x, ellipsoid_9_rot_y, ellipsoid_9_rot_z]) scale([ellipsoid_9_rx, ellipsoid_9_ry, ellipsoid_9_rz]) sphere(r = fn_sr(1));
+      translate([box_6_cx, box_6_cy, box_6_cz]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
       difference() {
-        translate([prism_10_cx, prism_10_cy, prism_10_cz]) rotate([prism_10_rot_x, prism_10_rot_y, prism_10_rot_z]) linear_extrude(height = prism_10_depth, center = true) polygon([[-prism_10_w / 2, -prism_10_h / 2], [prism_10_w / 2, -prism_10_h / 2], [prism_10_apex * prism_10_w / 2, prism_10_h / 2]]);
-        translate([box_11_cx, box_11_cy, box_11_cz]) rotate([0, 0, box_11_rot_z]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
-        translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, box_12_rot_y, box_12_rot_z]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
+        translate([box_7_cx, box_7_cy, box_7_cz]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
+        translate([box_8_cx, box_8_cy, box_8_cz]) rotate([0, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
       }
       difference() {
-        translate([box_13_cx, box_13_cy, box_13_cz]) cube([box_13_size_x, box_13_size_y, box_13_size_z], center = true);
+        translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, box_9_rot_y, box_9_rot_z]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
         difference() {
-          translate([torus_14_cx, torus_14_cy, torus_14_cz]) rotate([torus_14_rot_x, torus_14_rot_y, 0]) csg_torus(torus_14_major_r, torus_14_minor_r);
-          translate([box_15_cx, box_15_cy, box_15_cz]) rotate([box_15_rot_x, box_15_rot_y, box_15_rot_z]) cube([box_15_size_x, box_15_size_y, box_15_size_z], center = true);
+          translate([box_10_cx, box_10_cy, box_10_cz]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
+          translate([box_11_cx, box_11_cy, box_11_cz]) rotate([box_11_rot_x, box_11_rot_y, 0]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
         }
-        translate([cone_16_cx, cone_16_cy, cone_16_cz]) cylinder(h = cone_16_h, r1 = fn_r(cone_16_r1), r2 = fn_r(cone_16_r2), center = true);
-        translate([prism_17_cx, prism_17_cy, prism_17_cz]) rotate([prism_17_rot_x, prism_17_rot_y, prism_17_rot_z]) linear_extrude(height = prism_17_depth, center = true) polygon([[-prism_17_w / 2, -prism_17_h / 2], [prism_17_w / 2, -prism_17_h / 2], [prism_17_apex * prism_17_w / 2, prism_17_h / 2]]);
+        translate([cyl_12_cx, cyl_12_cy, cyl_12_cz]) rotate([cyl_12_rot_x, cyl_12_rot_y, 0]) cylinder(h = cyl_12_h, r = fn_r(cyl_12_r), center = true);
       }
     }
-    translate([box_18_cx, box_18_cy, box_18_cz]) rotate([0, box_18_rot_y, 0]) cube([box_18_size_x, box_18_size_y, box_18_size_z], center = true);
+    translate([box_13_cx, box_13_cy, box_13_cz]) rotate([box_13_rot_x, box_13_rot_y, box_13_rot_z]) cube([box_13_size_x, box_13_size_y, box_13_size_z], center = true);
+    translate([box_14_cx, box_14_cy, box_14_cz]) rotate([box_14_rot_x, box_14_rot_y, box_14_rot_z]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);
+    translate([box_15_cx, box_15_cy, box_15_cz]) rotate([0, box_15_rot_y, box_15_rot_z]) cube([box_15_size_x, box_15_size_y, box_15_size_z], center = true);
+    translate([prism_16_cx, prism_16_cy, prism_16_cz]) rotate([prism_16_rot_x, prism_16_rot_y, prism_16_rot_z]) linear_extrude(height = prism_16_depth, center = true) polygon([[-prism_16_w / 2, -prism_16_h / 2], [prism_16_w / 2, -prism_16_h / 2], [prism_16_apex * prism_16_w / 2, prism_16_h / 2]]);
+    translate([box_17_cx, box_17_cy, box_17_cz]) rotate([box_17_rot_x, box_17_rot_y, box_17_rot_z]) cube([box_17_size_x, box_17_size_y, box_17_size_z], center = true);
+    translate([prism_18_cx, prism_18_cy, prism_18_cz]) rotate([prism_18_rot_x, prism_18_rot_y, prism_18_rot_z]) linear_extrude(height = prism_18_depth, center = true) polygon([[-prism_18_w / 2, -prism_18_h / 2], [prism_18_w / 2, -prism_18_h / 2], [prism_18_apex * prism_18_w / 2, prism_18_h / 2]]);
+    translate([box_19_cx, box_19_cy, box_19_cz]) rotate([0, box_19_rot_y, 0]) cube([box_19_size_x, box_19_size_y, box_19_size_z], center = true);
+    translate([cyl_20_cx, cyl_20_cy, cyl_20_cz]) rotate([cyl_20_rot_x, 0, 0]) cylinder(h = cyl_20_h, r = fn_r(cyl_20_r), center = true);
   }
 }
 

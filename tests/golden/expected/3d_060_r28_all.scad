@@ -6,136 +6,140 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
+/* [Shared dimensions] */
+// radius of cylinders 13 and 14
+hole_r = 0.5122; // [0:0.01:50]
+
 /* [Box 1] */
-box_1_cx = -0.0652; // [-50:0.01:50]
+box_1_cx = -0.0002; // [-50:0.01:50]
 box_1_cy = 0; // [-50:0.01:50]
 box_1_cz = 0; // [-50:0.01:50]
-box_1_size_x = 9.58; // [0:0.01:50]
-box_1_size_y = 2.027; // [0:0.01:50]
-box_1_size_z = 5.5485; // [0:0.01:50]
+box_1_rot_x = -90; // [-180:0.1:180]
+box_1_rot_z = -90; // [-180:0.1:180]
+box_1_size_x = 2.027; // [0:0.01:50]
+box_1_size_y = 5.5485; // [0:0.01:50]
+box_1_size_z = 9.6415; // [0:0.01:50]
 
-/* [Prism 2] */
-prism_2_cx = -4.5968; // [-50:0.01:50]
-prism_2_cy = 1.3522; // [-50:0.01:50]
-prism_2_cz = 2.2074; // [-50:0.01:50]
-prism_2_rot_x = -1.128089; // [-180:0.1:180]
-prism_2_rot_y = 22.970482; // [-180:0.1:180]
-prism_2_rot_z = 0.2707; // [-180:0.1:180]
-prism_2_w = 17.0726; // [0:0.01:50]
-prism_2_h = 4.4334; // [0:0.01:50]
-prism_2_depth = 9.3536; // [0:0.01:50]
-prism_2_apex = -0.509986; // [-4:0.01:4]
+/* [Cone 2] */
+cone_2_cx = -5.2002; // [-50:0.01:50]
+cone_2_cy = 1.0745; // [-50:0.01:50]
+cone_2_cz = -1.7428; // [-50:0.01:50]
+cone_2_rot_x = 30.879383; // [-180:0.1:180]
+cone_2_rot_y = -175.789501; // [-180:0.1:180]
+cone_2_r1 = 3.0618; // [0:0.01:50]
+cone_2_r2 = 1.9765; // [0:0.01:50]
+cone_2_h = 3.8202; // [0:0.01:50]
 
-/* [Cylinder 3] */
-cyl_3_cx = -2.3214; // [-50:0.01:50]
-cyl_3_cy = -0.5357; // [-50:0.01:50]
-cyl_3_cz = -1.6964; // [-50:0.01:50]
-cyl_3_rot_x = -60.859132; // [-180:0.1:180]
-cyl_3_rot_y = 142.104845; // [-180:0.1:180]
-cyl_3_r = 1.5544; // [0:0.01:50]
-cyl_3_h = 7.5944; // [0:0.01:50]
+/* [Torus 3] */
+torus_3_cx = 4.753; // [-50:0.01:50]
+torus_3_cy = 0.4758; // [-50:0.01:50]
+torus_3_cz = -1.8982; // [-50:0.01:50]
+torus_3_rot_x = 26.280017; // [-180:0.1:180]
+torus_3_rot_y = -84.856077; // [-180:0.1:180]
+torus_3_major_r = 1.6323; // [0:0.01:50]
+torus_3_minor_r = 1.6323; // [0:0.01:50]
 
-/* [Prism 4] */
-prism_4_cx = -3.3825; // [-50:0.01:50]
-prism_4_cy = 1.7835; // [-50:0.01:50]
-prism_4_cz = -0.8619; // [-50:0.01:50]
-prism_4_rot_x = 19.714165; // [-180:0.1:180]
-prism_4_rot_y = 58.325457; // [-180:0.1:180]
-prism_4_rot_z = 101.751916; // [-180:0.1:180]
-prism_4_w = 5.7446; // [0:0.01:50]
-prism_4_h = 1.3654; // [0:0.01:50]
-prism_4_depth = 3.3119; // [0:0.01:50]
-prism_4_apex = -0.516816; // [-4:0.01:4]
+/* [Box 4] */
+box_4_cx = -0.3898; // [-50:0.01:50]
+box_4_cy = -0.2812; // [-50:0.01:50]
+box_4_cz = -4.402; // [-50:0.01:50]
+box_4_rot_x = -74.04716; // [-180:0.1:180]
+box_4_rot_y = 89.618618; // [-180:0.1:180]
+box_4_rot_z = 105.851823; // [-180:0.1:180]
+box_4_size_x = 5.182; // [0:0.01:50]
+box_4_size_y = 1.355; // [0:0.01:50]
+box_4_size_z = 5.0986; // [0:0.01:50]
 
-/* [Prism 5] */
-prism_5_cx = -0.65; // [-50:0.01:50]
-prism_5_cy = -0.2741; // [-50:0.01:50]
-prism_5_cz = -0.9367; // [-50:0.01:50]
-prism_5_rot_x = -88.648613; // [-180:0.1:180]
-prism_5_rot_y = -17.32208; // [-180:0.1:180]
-prism_5_rot_z = -179.539899; // [-180:0.1:180]
-prism_5_w = 7.7404; // [0:0.01:50]
-prism_5_h = 5.8298; // [0:0.01:50]
-prism_5_depth = 1.3028; // [0:0.01:50]
-prism_5_apex = 0.133321; // [-4:0.01:4]
+/* [Box 5] */
+box_5_cx = 0.1154; // [-50:0.01:50]
+box_5_cy = 0.1571; // [-50:0.01:50]
+box_5_cz = 1.0165; // [-50:0.01:50]
+box_5_rot_x = 90; // [-180:0.1:180]
+box_5_rot_z = 90; // [-180:0.1:180]
+box_5_size_x = 1.7129; // [0:0.01:50]
+box_5_size_y = 4.8464; // [0:0.01:50]
+box_5_size_z = 12.0123; // [0:0.01:50]
 
-/* [Prism 6] */
-prism_6_cx = -3.9362; // [-50:0.01:50]
-prism_6_cy = -0.2568; // [-50:0.01:50]
-prism_6_cz = 0.512; // [-50:0.01:50]
-prism_6_rot_x = 170.514648; // [-180:0.1:180]
-prism_6_rot_y = -75.169105; // [-180:0.1:180]
-prism_6_rot_z = 179.946301; // [-180:0.1:180]
-prism_6_w = 4.4169; // [0:0.01:50]
-prism_6_h = 1.5104; // [0:0.01:50]
-prism_6_depth = 0.9606; // [0:0.01:50]
-prism_6_apex = 0.99104; // [-4:0.01:4]
+/* [Cylinder 6] */
+cyl_6_cx = -2.1446; // [-50:0.01:50]
+cyl_6_cy = 0.0676; // [-50:0.01:50]
+cyl_6_cz = -1.2025; // [-50:0.01:50]
+cyl_6_rot_x = -90; // [-180:0.1:180]
+cyl_6_r = 0.7469; // [0:0.01:50]
+cyl_6_h = 1.8919; // [0:0.01:50]
 
-/* [Prism 7] */
-prism_7_cx = 3.0357; // [-50:0.01:50]
-prism_7_cy = 0; // [-50:0.01:50]
-prism_7_cz = 0.8929; // [-50:0.01:50]
-prism_7_rot_x = 103.800745; // [-180:0.1:180]
-prism_7_rot_y = -41.359736; // [-180:0.1:180]
-prism_7_rot_z = 44.204965; // [-180:0.1:180]
-prism_7_w = 13.8866; // [0:0.01:50]
-prism_7_h = 10.5083; // [0:0.01:50]
-prism_7_depth = 9.3398; // [0:0.01:50]
-prism_7_apex = 0.154311; // [-4:0.01:4]
+/* [Cylinder 7] */
+cyl_7_cx = 2.1284; // [-50:0.01:50]
+cyl_7_cy = 0.0676; // [-50:0.01:50]
+cyl_7_cz = -1.1698; // [-50:0.01:50]
+cyl_7_rot_x = -90; // [-180:0.1:180]
+cyl_7_r = 0.7181; // [0:0.01:50]
+cyl_7_h = 1.8919; // [0:0.01:50]
 
-/* [Prism 8] */
-prism_8_cx = 1.8217; // [-50:0.01:50]
-prism_8_cy = -0.2306; // [-50:0.01:50]
-prism_8_cz = -1.3168; // [-50:0.01:50]
-prism_8_rot_x = 20.149709; // [-180:0.1:180]
-prism_8_rot_y = 40.031306; // [-180:0.1:180]
-prism_8_rot_z = 104.877679; // [-180:0.1:180]
-prism_8_w = 8.3967; // [0:0.01:50]
-prism_8_h = 4.1158; // [0:0.01:50]
-prism_8_depth = 2.7623; // [0:0.01:50]
-prism_8_apex = -0.378231; // [-4:0.01:4]
+/* [Box 8] */
+box_8_cx = -2.9885; // [-50:0.01:50]
+box_8_cy = -0.3202; // [-50:0.01:50]
+box_8_cz = -2.0321; // [-50:0.01:50]
+box_8_rot_x = -89.918915; // [-180:0.1:180]
+box_8_rot_y = -76.867214; // [-180:0.1:180]
+box_8_rot_z = 177.636762; // [-180:0.1:180]
+box_8_size_x = 1.5831; // [0:0.01:50]
+box_8_size_y = 1.5139; // [0:0.01:50]
+box_8_size_z = 1.337; // [0:0.01:50]
 
-/* [Ellipsoid 9] */
-ellipsoid_9_cx = 1.0247; // [-50:0.01:50]
-ellipsoid_9_cy = 0.2077; // [-50:0.01:50]
-ellipsoid_9_cz = -1.4232; // [-50:0.01:50]
-ellipsoid_9_rot_x = -30.0215; // [-180:0.1:180]
-ellipsoid_9_rot_y = -79.448084; // [-180:0.1:180]
-ellipsoid_9_rot_z = 70.279675; // [-180:0.1:180]
-ellipsoid_9_rx = 5.8191; // [0:0.01:50]
-ellipsoid_9_ry = 1.4721; // [0:0.01:50]
-ellipsoid_9_rz = 0.8281; // [0:0.01:50]
+/* [Cone 9] */
+cone_9_cx = 4.342; // [-50:0.01:50]
+cone_9_cy = -0.2332; // [-50:0.01:50]
+cone_9_cz = 1.9852; // [-50:0.01:50]
+cone_9_rot_x = 2.883276; // [-180:0.1:180]
+cone_9_rot_y = 106.236751; // [-180:0.1:180]
+cone_9_r1 = 0.7473; // [0:0.01:50]
+cone_9_r2 = 0.6997; // [0:0.01:50]
+cone_9_h = 1.0803; // [0:0.01:50]
 
-/* [Box 10] */
-box_10_cx = 3.631; // [-50:0.01:50]
-box_10_cy = 0.4807; // [-50:0.01:50]
-box_10_cz = -0.4705; // [-50:0.01:50]
-box_10_rot_x = 103.799297; // [-180:0.1:180]
-box_10_rot_y = -62.720276; // [-180:0.1:180]
-box_10_rot_z = -102.041139; // [-180:0.1:180]
-box_10_size_x = 4.7036; // [0:0.01:50]
-box_10_size_y = 1.5271; // [0:0.01:50]
-box_10_size_z = 1.9158; // [0:0.01:50]
+/* [Cone 10] */
+cone_10_cx = -4.1436; // [-50:0.01:50]
+cone_10_cy = -0.432; // [-50:0.01:50]
+cone_10_cz = 1.486; // [-50:0.01:50]
+cone_10_rot_x = 16.504142; // [-180:0.1:180]
+cone_10_rot_y = 159.857412; // [-180:0.1:180]
+cone_10_r1 = 0.6539; // [0:0.01:50]
+cone_10_r2 = 0.3033; // [0:0.01:50]
+cone_10_h = 2.4682; // [0:0.01:50]
 
-/* [Cylinder 11] */
-cyl_11_cx = 2.8824; // [-50:0.01:50]
-cyl_11_cy = -2.6405; // [-50:0.01:50]
-cyl_11_cz = 1.9015; // [-50:0.01:50]
-cyl_11_rot_x = -12.060864; // [-180:0.1:180]
-cyl_11_rot_y = 88.938545; // [-180:0.1:180]
-cyl_11_r = 2.3211; // [0:0.01:50]
-cyl_11_h = 5.0056; // [0:0.01:50]
+/* [Prism 11] */
+prism_11_cx = 3.8145; // [-50:0.01:50]
+prism_11_cy = -0.624; // [-50:0.01:50]
+prism_11_cz = 0.0757; // [-50:0.01:50]
+prism_11_rot_x = -167.571325; // [-180:0.1:180]
+prism_11_rot_y = -75.639022; // [-180:0.1:180]
+prism_11_rot_z = -11.289056; // [-180:0.1:180]
+prism_11_w = 7.3988; // [0:0.01:50]
+prism_11_h = 0.7859; // [0:0.01:50]
+prism_11_depth = 0.9964; // [0:0.01:50]
+prism_11_apex = -0.12533; // [-4:0.01:4]
 
-/* [Box 12] */
-box_12_cx = 0.2852; // [-50:0.01:50]
-box_12_cy = 0.1563; // [-50:0.01:50]
-box_12_cz = -1.7454; // [-50:0.01:50]
-box_12_rot_x = -92.700052; // [-180:0.1:180]
-box_12_rot_y = 8.647129; // [-180:0.1:180]
-box_12_rot_z = 90.329188; // [-180:0.1:180]
-box_12_size_x = 1.7519; // [0:0.01:50]
-box_12_size_y = 0.4497; // [0:0.01:50]
-box_12_size_z = 4.3041; // [0:0.01:50]
+/* [Cylinder 12] */
+cyl_12_cx = 0.0004; // [-50:0.01:50]
+cyl_12_cy = -0.1243; // [-50:0.01:50]
+cyl_12_cz = -4.0495; // [-50:0.01:50]
+cyl_12_rot_x = -90; // [-180:0.1:180]
+cyl_12_r = 2.0238; // [0:0.01:50]
+cyl_12_h = 2.2757; // [0:0.01:50]
+
+/* [Cylinder 13] */
+cyl_13_cx = -2.1446; // [-50:0.01:50]
+cyl_13_cy = -0.4401; // [-50:0.01:50]
+cyl_13_cz = -1.2025; // [-50:0.01:50]
+cyl_13_rot_x = -90; // [-180:0.1:180]
+cyl_13_h = 1.5559; // [0:0.01:50]
+
+/* [Cylinder 14] */
+cyl_14_cx = 2.0948; // [-50:0.01:50]
+cyl_14_cy = -0.4527; // [-50:0.01:50]
+cyl_14_cz = -1.2071; // [-50:0.01:50]
+cyl_14_rot_x = 90; // [-180:0.1:180]
+cyl_14_h = 1.5811; // [0:0.01:50]
 
 /* [Hidden] */
 $fn = segments;
@@ -144,40 +148,32 @@ $fn = segments;
 // this radius gives the polygon the fitted circle's area instead.
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
-// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with their
-// vertices on the sphere: a stack of frusta. fn_sphere_volume is that polyhedron's
-// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the fitted sphere's volume.
-function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :
-  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),
-      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))
-  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);
-function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
-  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
+// A torus about the z axis: the circle of radius r at distance R, revolved. With
+// equal-area fn_r, stretching the profile by fn_r(1) across the axis gives the
+// revolved $fn-gon the torus's volume; min() keeps it off the axis when r = R.
+module csg_torus(R, r)
+  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), R / r), 1]) circle(r = fn_r(r));
 
 module csg_high_res() {
-  union() {
-    difference() {
-      translate([box_1_cx, box_1_cy, box_1_cz]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
+  difference() {
+    union() {
       difference() {
-        translate([prism_2_cx, prism_2_cy, prism_2_cz]) rotate([prism_2_rot_x, prism_2_rot_y, prism_2_rot_z]) linear_extrude(height = prism_2_depth, center = true) polygon([[-prism_2_w / 2, -prism_2_h / 2], [prism_2_w / 2, -prism_2_h / 2], [prism_2_apex * prism_2_w / 2, prism_2_h / 2]]);
-        difference() {
-          translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) rotate([cyl_3_rot_x, cyl_3_rot_y, 0]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
-          translate([prism_4_cx, prism_4_cy, prism_4_cz]) rotate([prism_4_rot_x, prism_4_rot_y, prism_4_rot_z]) linear_extrude(height = prism_4_depth, center = true) polygon([[-prism_4_w / 2, -prism_4_h / 2], [prism_4_w / 2, -prism_4_h / 2], [prism_4_apex * prism_4_w / 2, prism_4_h / 2]]);
-          translate([prism_5_cx, prism_5_cy, prism_5_cz]) rotate([prism_5_rot_x, prism_5_rot_y, prism_5_rot_z]) linear_extrude(height = prism_5_depth, center = true) polygon([[-prism_5_w / 2, -prism_5_h / 2], [prism_5_w / 2, -prism_5_h / 2], [prism_5_apex * prism_5_w / 2, prism_5_h / 2]]);
-        }
-        translate([prism_6_cx, prism_6_cy, prism_6_cz]) rotate([prism_6_rot_x, prism_6_rot_y, prism_6_rot_z]) linear_extrude(height = prism_6_depth, center = true) polygon([[-prism_6_w / 2, -prism_6_h / 2], [prism_6_w / 2, -prism_6_h / 2], [prism_6_apex * prism_6_w / 2, prism_6_h / 2]]);
+        translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, 0, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
+        translate([cone_2_cx, cone_2_cy, cone_2_cz]) rotate([cone_2_rot_x, cone_2_rot_y, 0]) cylinder(h = cone_2_h, r1 = fn_r(cone_2_r1), r2 = fn_r(cone_2_r2), center = true);
+        translate([torus_3_cx, torus_3_cy, torus_3_cz]) rotate([torus_3_rot_x, torus_3_rot_y, 0]) csg_torus(torus_3_major_r, torus_3_minor_r);
+        translate([box_4_cx, box_4_cy, box_4_cz]) rotate([box_4_rot_x, box_4_rot_y, box_4_rot_z]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
+        translate([box_5_cx, box_5_cy, box_5_cz]) rotate([box_5_rot_x, 0, box_5_rot_z]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
       }
-      difference() {
-        translate([prism_7_cx, prism_7_cy, prism_7_cz]) rotate([prism_7_rot_x, prism_7_rot_y, prism_7_rot_z]) linear_extrude(height = prism_7_depth, center = true) polygon([[-prism_7_w / 2, -prism_7_h / 2], [prism_7_w / 2, -prism_7_h / 2], [prism_7_apex * prism_7_w / 2, prism_7_h / 2]]);
-        difference() {
-          translate([prism_8_cx, prism_8_cy, prism_8_cz]) rotate([prism_8_rot_x, prism_8_rot_y, prism_8_rot_z]) linear_extrude(height = prism_8_depth, center = true) polygon([[-prism_8_w / 2, -prism_8_h / 2], [prism_8_w / 2, -prism_8_h / 2], [prism_8_apex * prism_8_w / 2, prism_8_h / 2]]);
-          translate([ellipsoid_9_cx, ellipsoid_9_cy, ellipsoid_9_cz]) rotate([ellipsoid_9_rot_x, ellipsoid_9_rot_y, ellipsoid_9_rot_z]) scale([ellipsoid_9_rx, ellipsoid_9_ry, ellipsoid_9_rz]) sphere(r = fn_sr(1));
-          translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
-        }
-        translate([cyl_11_cx, cyl_11_cy, cyl_11_cz]) rotate([cyl_11_rot_x, cyl_11_rot_y, 0]) cylinder(h = cyl_11_h, r = fn_r(cyl_11_r), center = true);
-      }
+      translate([cyl_6_cx, cyl_6_cy, cyl_6_cz]) rotate([cyl_6_rot_x, 0, 0]) cylinder(h = cyl_6_h, r = fn_r(cyl_6_r), center = true);
+      translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([cyl_7_rot_x, 0, 0]) cylinder(h = cyl_7_h, r = fn_r(cyl_7_r), center = true);
+      translate([box_8_cx, box_8_cy, box_8_cz]) rotate([box_8_rot_x, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
+      translate([cone_9_cx, cone_9_cy, cone_9_cz]) rotate([cone_9_rot_x, cone_9_rot_y, 0]) cylinder(h = cone_9_h, r1 = fn_r(cone_9_r1), r2 = fn_r(cone_9_r2), center = true);
+      translate([cone_10_cx, cone_10_cy, cone_10_cz]) rotate([cone_10_rot_x, cone_10_rot_y, 0]) cylinder(h = cone_10_h, r1 = fn_r(cone_10_r1), r2 = fn_r(cone_10_r2), center = true);
+      translate([prism_11_cx, prism_11_cy, prism_11_cz]) rotate([prism_11_rot_x, prism_11_rot_y, prism_11_rot_z]) linear_extrude(height = prism_11_depth, center = true) polygon([[-prism_11_w / 2, -prism_11_h / 2], [prism_11_w / 2, -prism_11_h / 2], [prism_11_apex * prism_11_w / 2, prism_11_h / 2]]);
     }
-    translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, box_12_rot_y, box_12_rot_z]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
+    translate([cyl_12_cx, cyl_12_cy, cyl_12_cz]) rotate([cyl_12_rot_x, 0, 0]) cylinder(h = cyl_12_h, r = fn_r(cyl_12_r), center = true);
+    translate([cyl_13_cx, cyl_13_cy, cyl_13_cz]) rotate([cyl_13_rot_x, 0, 0]) cylinder(h = cyl_13_h, r = fn_r(hole_r), center = true);
+    translate([cyl_14_cx, cyl_14_cy, cyl_14_cz]) rotate([cyl_14_rot_x, 0, 0]) cylinder(h = cyl_14_h, r = fn_r(hole_r), center = true);
   }
 }
 

@@ -7,128 +7,128 @@
 segments = 64; // [12:1:360]
 
 /* [Box 1] */
-box_1_cx = 0.007; // [-100:0.01:100]
-box_1_cy = 0.0001; // [-100:0.01:100]
-box_1_cz = -0.0145; // [-100:0.01:100]
-box_1_rot_x = -0.010632; // [-180:0.1:180]
-box_1_rot_y = 1.772396; // [-180:0.1:180]
-box_1_rot_z = 0.021785; // [-180:0.1:180]
-box_1_size_x = 3.5106; // [0:0.01:100]
-box_1_size_y = 5.9334; // [0:0.01:100]
-box_1_size_z = 9.9543; // [0:0.01:100]
+box_1_cx = 0.0101; // [-100:0.01:100]
+box_1_cy = -0.0001; // [-100:0.01:100]
+box_1_cz = -0.0311; // [-100:0.01:100]
+box_1_rot_x = 1.681095; // [-180:0.1:180]
+box_1_rot_y = 1.786044; // [-180:0.1:180]
+box_1_rot_z = 0.043153; // [-180:0.1:180]
+box_1_size_x = 3.5048; // [0:0.01:100]
+box_1_size_y = 5.936; // [0:0.01:100]
+box_1_size_z = 9.9256; // [0:0.01:100]
 
-/* [Prism 2] */
-prism_2_cx = -1.5755; // [-100:0.01:100]
-prism_2_cy = -0.1906; // [-100:0.01:100]
-prism_2_cz = -2.3103; // [-100:0.01:100]
-prism_2_rot_x = 89.105734; // [-180:0.1:180]
-prism_2_rot_y = 33.437391; // [-180:0.1:180]
-prism_2_rot_z = 89.540652; // [-180:0.1:180]
-prism_2_w = 26.0587; // [0:0.01:100]
-prism_2_h = 7.1983; // [0:0.01:100]
-prism_2_depth = 5.5732; // [0:0.01:100]
-prism_2_apex = -0.035039; // [-4:0.01:4]
+/* [Box 2] */
+box_2_cx = -0.9384; // [-100:0.01:100]
+box_2_cy = 0.0288; // [-100:0.01:100]
+box_2_cz = -3.1349; // [-100:0.01:100]
+box_2_rot_x = -90.163433; // [-180:0.1:180]
+box_2_rot_y = -13.214875; // [-180:0.1:180]
+box_2_rot_z = 90.075893; // [-180:0.1:180]
+box_2_size_x = 6.1853; // [0:0.01:100]
+box_2_size_y = 7.1052; // [0:0.01:100]
+box_2_size_z = 4.3324; // [0:0.01:100]
 
 /* [Box 3] */
-box_3_cx = -1.975; // [-100:0.01:100]
-box_3_cy = -0.0754; // [-100:0.01:100]
-box_3_cz = -1.022; // [-100:0.01:100]
-box_3_size_x = 6.3953; // [0:0.01:100]
-box_3_size_y = 5.7886; // [0:0.01:100]
-box_3_size_z = 1.3715; // [0:0.01:100]
+box_3_cx = -0.1481; // [-100:0.01:100]
+box_3_cy = 0.0871; // [-100:0.01:100]
+box_3_cz = -1.0227; // [-100:0.01:100]
+box_3_rot_x = 0.074109; // [-180:0.1:180]
+box_3_rot_y = 0.212228; // [-180:0.1:180]
+box_3_rot_z = 7.268984; // [-180:0.1:180]
+box_3_size_x = 3.2844; // [0:0.01:100]
+box_3_size_y = 6.159; // [0:0.01:100]
+box_3_size_z = 1.3624; // [0:0.01:100]
 
-/* [Cylinder 4] */
-cyl_4_cx = -2.6354; // [-100:0.01:100]
-cyl_4_cy = 0.2868; // [-100:0.01:100]
-cyl_4_cz = -0.9809; // [-100:0.01:100]
-cyl_4_rot_x = -4.993621; // [-180:0.1:180]
-cyl_4_rot_y = -87.594864; // [-180:0.1:180]
-cyl_4_r = 1.1913; // [0:0.01:100]
-cyl_4_h = 7.7047; // [0:0.01:100]
+/* [Ellipsoid 4] */
+ellipsoid_4_cx = -5.7039; // [-100:0.01:100]
+ellipsoid_4_cy = 0.5327; // [-100:0.01:100]
+ellipsoid_4_cz = -0.8219; // [-100:0.01:100]
+ellipsoid_4_rot_x = -3.95545; // [-180:0.1:180]
+ellipsoid_4_rot_y = 87.576612; // [-180:0.1:180]
+ellipsoid_4_rot_z = 171.391048; // [-180:0.1:180]
+ellipsoid_4_rx = 2.9116; // [0:0.01:100]
+ellipsoid_4_ry = 1.4687; // [0:0.01:100]
+ellipsoid_4_rz = 10.1153; // [0:0.01:100]
 
-/* [Cylinder 5] */
-cyl_5_cx = -2.1434; // [-100:0.01:100]
-cyl_5_cy = 0.0527; // [-100:0.01:100]
-cyl_5_cz = -1.2415; // [-100:0.01:100]
-cyl_5_rot_y = -90; // [-180:0.1:180]
-cyl_5_r = 1.5304; // [0:0.01:100]
-cyl_5_h = 3.5256; // [0:0.01:100]
+/* [Box 5] */
+box_5_cx = -1.0718; // [-100:0.01:100]
+box_5_cy = -0.0146; // [-100:0.01:100]
+box_5_cz = -0.6753; // [-100:0.01:100]
+box_5_size_x = 1.3823; // [0:0.01:100]
+box_5_size_y = 2.8279; // [0:0.01:100]
+box_5_size_z = 2.0649; // [0:0.01:100]
 
-/* [Ellipsoid 6] */
-ellipsoid_6_cx = -1.0714; // [-100:0.01:100]
-ellipsoid_6_cy = 0.1786; // [-100:0.01:100]
-ellipsoid_6_cz = 2.8571; // [-100:0.01:100]
-ellipsoid_6_rot_x = -100.532654; // [-180:0.1:180]
-ellipsoid_6_rot_y = 83.912848; // [-180:0.1:180]
-ellipsoid_6_rot_z = -36.696874; // [-180:0.1:180]
-ellipsoid_6_rx = 3.3834; // [0:0.01:100]
-ellipsoid_6_ry = 4.9991; // [0:0.01:100]
-ellipsoid_6_rz = 7.4175; // [0:0.01:100]
+/* [Prism 6] */
+prism_6_cx = 0.7678; // [-100:0.01:100]
+prism_6_cy = -0.837; // [-100:0.01:100]
+prism_6_cz = 3.5678; // [-100:0.01:100]
+prism_6_rot_x = 84.901688; // [-180:0.1:180]
+prism_6_rot_y = 0.532991; // [-180:0.1:180]
+prism_6_rot_z = 50.948806; // [-180:0.1:180]
+prism_6_w = 26.4848; // [0:0.01:100]
+prism_6_h = 7.3846; // [0:0.01:100]
+prism_6_depth = 9.2028; // [0:0.01:100]
+prism_6_apex = 0; // [-4:0.01:4]
 
 /* [Box 7] */
-box_7_cx = 1.4082; // [-100:0.01:100]
-box_7_cy = 0.0914; // [-100:0.01:100]
-box_7_cz = 2.3239; // [-100:0.01:100]
-box_7_rot_x = 4.409983; // [-180:0.1:180]
-box_7_rot_y = 0.233665; // [-180:0.1:180]
-box_7_rot_z = -0.033809; // [-180:0.1:180]
-box_7_size_x = 0.5124; // [0:0.01:100]
-box_7_size_y = 6.1039; // [0:0.01:100]
-box_7_size_z = 5.111; // [0:0.01:100]
+box_7_cx = 1.4927; // [-100:0.01:100]
+box_7_cy = 0.3085; // [-100:0.01:100]
+box_7_cz = 2.4098; // [-100:0.01:100]
+box_7_size_x = 0.54; // [0:0.01:100]
+box_7_size_y = 6.5564; // [0:0.01:100]
+box_7_size_z = 5.4919; // [0:0.01:100]
 
-/* [Box 8] */
-box_8_cx = -1.8163; // [-100:0.01:100]
-box_8_cy = -2.687; // [-100:0.01:100]
-box_8_cz = -1.4921; // [-100:0.01:100]
-box_8_rot_x = 97.442449; // [-180:0.1:180]
-box_8_rot_y = 44.915681; // [-180:0.1:180]
-box_8_rot_z = 87.45939; // [-180:0.1:180]
-box_8_size_x = 1.4922; // [0:0.01:100]
-box_8_size_y = 2.8862; // [0:0.01:100]
-box_8_size_z = 1.7506; // [0:0.01:100]
+/* [Cylinder 8] */
+cyl_8_cx = -1.2593; // [-100:0.01:100]
+cyl_8_cy = -2.1392; // [-100:0.01:100]
+cyl_8_cz = -1.119; // [-100:0.01:100]
+cyl_8_rot_x = -20.314314; // [-180:0.1:180]
+cyl_8_rot_y = 87.685207; // [-180:0.1:180]
+cyl_8_r = 0.7923; // [0:0.01:100]
+cyl_8_h = 0.7443; // [0:0.01:100]
 
 /* [Box 9] */
-box_9_cx = -1.2605; // [-100:0.01:100]
-box_9_cy = 0.1152; // [-100:0.01:100]
-box_9_cz = -2.5604; // [-100:0.01:100]
-box_9_rot_x = -69.937432; // [-180:0.1:180]
-box_9_rot_y = -85.482607; // [-180:0.1:180]
-box_9_rot_z = -108.512333; // [-180:0.1:180]
-box_9_size_x = 4.2642; // [0:0.01:100]
-box_9_size_y = 1.3873; // [0:0.01:100]
-box_9_size_z = 1.2821; // [0:0.01:100]
+box_9_cx = -1.2265; // [-100:0.01:100]
+box_9_cy = 0.0137; // [-100:0.01:100]
+box_9_cz = -0.9764; // [-100:0.01:100]
+box_9_rot_x = -74.541649; // [-180:0.1:180]
+box_9_rot_y = 86.321316; // [-180:0.1:180]
+box_9_rot_z = 115.227903; // [-180:0.1:180]
+box_9_size_x = 1.5696; // [0:0.01:100]
+box_9_size_y = 1.4438; // [0:0.01:100]
+box_9_size_z = 1.2152; // [0:0.01:100]
 
 /* [Box 10] */
-box_10_cx = 1.4205; // [-100:0.01:100]
-box_10_cy = -1.6166; // [-100:0.01:100]
-box_10_cz = 3.5988; // [-100:0.01:100]
-box_10_rot_x = -99.72487; // [-180:0.1:180]
-box_10_rot_y = -86.719247; // [-180:0.1:180]
-box_10_rot_z = 97.359526; // [-180:0.1:180]
-box_10_size_x = 3.7753; // [0:0.01:100]
-box_10_size_y = 2.8396; // [0:0.01:100]
-box_10_size_z = 0.5089; // [0:0.01:100]
+box_10_cx = 1.4186; // [-100:0.01:100]
+box_10_cy = -1.601; // [-100:0.01:100]
+box_10_cz = 3.4434; // [-100:0.01:100]
+box_10_rot_x = -96.980672; // [-180:0.1:180]
+box_10_rot_y = -86.585711; // [-180:0.1:180]
+box_10_rot_z = 94.481967; // [-180:0.1:180]
+box_10_size_x = 3.4657; // [0:0.01:100]
+box_10_size_y = 2.8041; // [0:0.01:100]
+box_10_size_z = 0.5149; // [0:0.01:100]
 
 /* [Box 11] */
 box_11_cx = 1.4927; // [-100:0.01:100]
 box_11_cy = 0.5893; // [-100:0.01:100]
-box_11_cz = 2.7683; // [-100:0.01:100]
+box_11_cz = 2.7685; // [-100:0.01:100]
 box_11_rot_y = -90; // [-180:0.1:180]
 box_11_rot_z = -90; // [-180:0.1:180]
-box_11_size_x = 1.8459; // [0:0.01:100]
+box_11_size_x = 1.8463; // [0:0.01:100]
 box_11_size_y = 0.54; // [0:0.01:100]
 box_11_size_z = 0.54; // [0:0.01:100]
 
 /* [Box 12] */
-box_12_cx = 1.4078; // [-100:0.01:100]
-box_12_cy = 2.5099; // [-100:0.01:100]
-box_12_cz = 3.9148; // [-100:0.01:100]
-box_12_rot_x = 89.068121; // [-180:0.1:180]
-box_12_rot_y = -88.852378; // [-180:0.1:180]
-box_12_rot_z = -81.794826; // [-180:0.1:180]
-box_12_size_x = 4.4023; // [0:0.01:100]
-box_12_size_y = 2.2866; // [0:0.01:100]
-box_12_size_z = 0.6578; // [0:0.01:100]
+box_12_cx = 1.4074; // [-100:0.01:100]
+box_12_cy = 2.3728; // [-100:0.01:100]
+box_12_cz = 3.9768; // [-100:0.01:100]
+box_12_rot_x = 96.07578; // [-180:0.1:180]
+box_12_rot_y = -88.787401; // [-180:0.1:180]
+box_12_rot_z = -87.736974; // [-180:0.1:180]
+box_12_size_x = 4.5339; // [0:0.01:100]
+box_12_size_y = 2.0173; // [0:0.01:100]
+box_12_size_z = 0.6663; // [0:0.01:100]
 
 /* [Hidden] */
 $fn = segments;
@@ -151,20 +151,20 @@ module csg_high_res() {
   difference() {
     translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, box_1_rot_y, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
     difference() {
-      translate([prism_2_cx, prism_2_cy, prism_2_cz]) rotate([prism_2_rot_x, prism_2_rot_y, prism_2_rot_z]) linear_extrude(height = prism_2_depth, center = true) polygon([[-prism_2_w / 2, -prism_2_h / 2], [prism_2_w / 2, -prism_2_h / 2], [prism_2_apex * prism_2_w / 2, prism_2_h / 2]]);
+      translate([box_2_cx, box_2_cy, box_2_cz]) rotate([box_2_rot_x, box_2_rot_y, box_2_rot_z]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
       difference() {
-        translate([box_3_cx, box_3_cy, box_3_cz]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
+        translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
         difference() {
-          translate([cyl_4_cx, cyl_4_cy, cyl_4_cz]) rotate([cyl_4_rot_x, cyl_4_rot_y, 0]) cylinder(h = cyl_4_h, r = fn_r(cyl_4_r), center = true);
-          translate([cyl_5_cx, cyl_5_cy, cyl_5_cz]) rotate([0, cyl_5_rot_y, 0]) cylinder(h = cyl_5_h, r = fn_r(cyl_5_r), center = true);
+          translate([ellipsoid_4_cx, ellipsoid_4_cy, ellipsoid_4_cz]) rotate([ellipsoid_4_rot_x, ellipsoid_4_rot_y, ellipsoid_4_rot_z]) scale([ellipsoid_4_rx, ellipsoid_4_ry, ellipsoid_4_rz]) sphere(r = fn_sr(1));
+          translate([box_5_cx, box_5_cy, box_5_cz]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
         }
       }
     }
     difference() {
-      translate([ellipsoid_6_cx, ellipsoid_6_cy, ellipsoid_6_cz]) rotate([ellipsoid_6_rot_x, ellipsoid_6_rot_y, ellipsoid_6_rot_z]) scale([ellipsoid_6_rx, ellipsoid_6_ry, ellipsoid_6_rz]) sphere(r = fn_sr(1));
-      translate([box_7_cx, box_7_cy, box_7_cz]) rotate([box_7_rot_x, box_7_rot_y, box_7_rot_z]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
+      translate([prism_6_cx, prism_6_cy, prism_6_cz]) rotate([prism_6_rot_x, prism_6_rot_y, prism_6_rot_z]) linear_extrude(height = prism_6_depth, center = true) polygon([[-prism_6_w / 2, -prism_6_h / 2], [prism_6_w / 2, -prism_6_h / 2], [prism_6_apex * prism_6_w / 2, prism_6_h / 2]]);
+      translate([box_7_cx, box_7_cy, box_7_cz]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
     }
-    translate([box_8_cx, box_8_cy, box_8_cz]) rotate([box_8_rot_x, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
+    translate([cyl_8_cx, cyl_8_cy, cyl_8_cz]) rotate([cyl_8_rot_x, cyl_8_rot_y, 0]) cylinder(h = cyl_8_h, r = fn_r(cyl_8_r), center = true);
     translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, box_9_rot_y, box_9_rot_z]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
     translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
     translate([box_11_cx, box_11_cy, box_11_cz]) rotate([0, box_11_rot_y, box_11_rot_z]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);

@@ -7,101 +7,115 @@
 segments = 64; // [12:1:360]
 
 /* [Prism 1] */
-prism_1_cx = -0.003; // [-50:0.01:50]
-prism_1_cy = -2.4496; // [-50:0.01:50]
-prism_1_cz = -2.4731; // [-50:0.01:50]
-prism_1_rot_x = -89.912016; // [-180:0.1:180]
-prism_1_rot_y = 44.95213; // [-180:0.1:180]
-prism_1_rot_z = 90.030368; // [-180:0.1:180]
-prism_1_w = 13.796; // [0:0.01:50]
-prism_1_h = 6.9883; // [0:0.01:50]
-prism_1_depth = 0.9015; // [0:0.01:50]
-prism_1_apex = -0.003896; // [-4:0.01:4]
+prism_1_cx = -0.0012; // [-50:0.01:50]
+prism_1_cy = -2.6551; // [-50:0.01:50]
+prism_1_cz = -2.2556; // [-50:0.01:50]
+prism_1_rot_x = -89.949693; // [-180:0.1:180]
+prism_1_rot_y = 45.951059; // [-180:0.1:180]
+prism_1_rot_z = 90.027772; // [-180:0.1:180]
+prism_1_w = 13.8522; // [0:0.01:50]
+prism_1_h = 6.8827; // [0:0.01:50]
+prism_1_depth = 0.9033; // [0:0.01:50]
+prism_1_apex = 0.053334; // [-4:0.01:4]
 
 /* [Box 2] */
-box_2_cx = 0.8755; // [-50:0.01:50]
-box_2_cy = 0.073; // [-50:0.01:50]
-box_2_cz = -4.2744; // [-50:0.01:50]
-box_2_rot_x = 133.206622; // [-180:0.1:180]
-box_2_rot_y = 0.490732; // [-180:0.1:180]
-box_2_rot_z = 90.27096; // [-180:0.1:180]
-box_2_size_x = 10.0805; // [0:0.01:50]
-box_2_size_y = 1.775; // [0:0.01:50]
-box_2_size_z = 0.4478; // [0:0.01:50]
+box_2_cx = 0.5145; // [-50:0.01:50]
+box_2_cy = -0.1351; // [-50:0.01:50]
+box_2_cz = -4.7184; // [-50:0.01:50]
+box_2_rot_x = 130.135878; // [-180:0.1:180]
+box_2_rot_y = -2.733939; // [-180:0.1:180]
+box_2_rot_z = 87.427983; // [-180:0.1:180]
+box_2_size_x = 10.4961; // [0:0.01:50]
+box_2_size_y = 1.6492; // [0:0.01:50]
+box_2_size_z = 0.52; // [0:0.01:50]
 
 /* [Box 3] */
-box_3_cx = 0.51; // [-50:0.01:50]
-box_3_cy = -4.765; // [-50:0.01:50]
-box_3_cz = 0.3053; // [-50:0.01:50]
-box_3_rot_x = -90.520321; // [-180:0.1:180]
-box_3_rot_y = -89.244724; // [-180:0.1:180]
-box_3_rot_z = 51.851361; // [-180:0.1:180]
-box_3_size_x = 9.9666; // [0:0.01:50]
-box_3_size_y = 1.2168; // [0:0.01:50]
-box_3_size_z = 0.5691; // [0:0.01:50]
+box_3_cx = 0.5085; // [-50:0.01:50]
+box_3_cy = -4.7663; // [-50:0.01:50]
+box_3_cz = 0.4627; // [-50:0.01:50]
+box_3_rot_x = -90.71899; // [-180:0.1:180]
+box_3_rot_y = -89.282686; // [-180:0.1:180]
+box_3_rot_z = 52.111162; // [-180:0.1:180]
+box_3_size_x = 10.288; // [0:0.01:50]
+box_3_size_y = 1.2269; // [0:0.01:50]
+box_3_size_z = 0.569; // [0:0.01:50]
 
 /* [Cone 4] */
-cone_4_cx = 0.1535; // [-50:0.01:50]
-cone_4_cy = 0.6267; // [-50:0.01:50]
-cone_4_cz = -3.1773; // [-50:0.01:50]
-cone_4_rot_y = -90; // [-180:0.1:180]
-cone_4_r1 = 0.7332; // [0:0.01:50]
-cone_4_r2 = 0.269; // [0:0.01:50]
-cone_4_h = 1.2161; // [0:0.01:50]
+cone_4_cx = 0.0558; // [-50:0.01:50]
+cone_4_cy = 0.6168; // [-50:0.01:50]
+cone_4_cz = -3.1713; // [-50:0.01:50]
+cone_4_rot_x = 0.727985; // [-180:0.1:180]
+cone_4_rot_y = -96.153883; // [-180:0.1:180]
+cone_4_r1 = 1.0255; // [0:0.01:50]
+cone_4_r2 = 0.0059; // [0:0.01:50]
+cone_4_h = 1.3146; // [0:0.01:50]
 
 /* [Cone 5] */
-cone_5_cx = 0; // [-50:0.01:50]
-cone_5_cy = -3.1632; // [-50:0.01:50]
-cone_5_cz = -0.7944; // [-50:0.01:50]
+cone_5_cx = 0.0484; // [-50:0.01:50]
+cone_5_cy = -3.1634; // [-50:0.01:50]
+cone_5_cz = -0.7953; // [-50:0.01:50]
 cone_5_rot_y = -90; // [-180:0.1:180]
-cone_5_r1 = 0.8866; // [0:0.01:50]
-cone_5_r2 = 0.0806; // [0:0.01:50]
-cone_5_h = 0.9091; // [0:0.01:50]
+cone_5_r1 = 1.0437; // [0:0.01:50]
+cone_5_r2 = 0.1872; // [0:0.01:50]
+cone_5_h = 1.5702; // [0:0.01:50]
 
-/* [Cone 6] */
-cone_6_cx = 0.0295; // [-50:0.01:50]
-cone_6_cy = -0.1652; // [-50:0.01:50]
-cone_6_cz = -0.1613; // [-50:0.01:50]
-cone_6_rot_x = 44.965547; // [-180:0.1:180]
-cone_6_rot_y = -179.913336; // [-180:0.1:180]
-cone_6_r1 = 3.2262; // [0:0.01:50]
-cone_6_r2 = 0.8872; // [0:0.01:50]
-cone_6_h = 0.6587; // [0:0.01:50]
+/* [Prism 6] */
+prism_6_cx = -0.0099; // [-50:0.01:50]
+prism_6_cy = -0.4464; // [-50:0.01:50]
+prism_6_cz = -0.0734; // [-50:0.01:50]
+prism_6_rot_x = -89.563884; // [-180:0.1:180]
+prism_6_rot_y = -46.980672; // [-180:0.1:180]
+prism_6_rot_z = -90.696154; // [-180:0.1:180]
+prism_6_w = 6.0489; // [0:0.01:50]
+prism_6_h = 0.6294; // [0:0.01:50]
+prism_6_depth = 1.1633; // [0:0.01:50]
+prism_6_apex = -0.025811; // [-4:0.01:4]
 
 /* [Ellipsoid 7] */
 ellipsoid_7_cx = 0.3123; // [-50:0.01:50]
 ellipsoid_7_cy = -3.1775; // [-50:0.01:50]
-ellipsoid_7_cz = 2.0883; // [-50:0.01:50]
-ellipsoid_7_rot_x = -104.305124; // [-180:0.1:180]
-ellipsoid_7_rot_y = -56.992426; // [-180:0.1:180]
-ellipsoid_7_rot_z = 107.024034; // [-180:0.1:180]
-ellipsoid_7_rx = 0.7411; // [0:0.01:50]
-ellipsoid_7_ry = 0.7469; // [0:0.01:50]
-ellipsoid_7_rz = 0.3979; // [0:0.01:50]
+ellipsoid_7_cz = 2.0882; // [-50:0.01:50]
+ellipsoid_7_rot_x = -105.172169; // [-180:0.1:180]
+ellipsoid_7_rot_y = -58.348748; // [-180:0.1:180]
+ellipsoid_7_rot_z = 107.80606; // [-180:0.1:180]
+ellipsoid_7_rx = 0.7414; // [0:0.01:50]
+ellipsoid_7_ry = 0.7467; // [0:0.01:50]
+ellipsoid_7_rz = 0.398; // [0:0.01:50]
 
 /* [Prism 8] */
-prism_8_cx = -0.051; // [-50:0.01:50]
-prism_8_cy = 3.5856; // [-50:0.01:50]
-prism_8_cz = -2.6717; // [-50:0.01:50]
-prism_8_rot_x = 87.545188; // [-180:0.1:180]
-prism_8_rot_y = 38.516144; // [-180:0.1:180]
-prism_8_rot_z = 88.562245; // [-180:0.1:180]
-prism_8_w = 5.1675; // [0:0.01:50]
-prism_8_h = 2.0396; // [0:0.01:50]
-prism_8_depth = 0.9285; // [0:0.01:50]
-prism_8_apex = 0.3481; // [-4:0.01:4]
+prism_8_cx = 0.0007; // [-50:0.01:50]
+prism_8_cy = 3.9449; // [-50:0.01:50]
+prism_8_cz = -2.882; // [-50:0.01:50]
+prism_8_rot_x = 90.039648; // [-180:0.1:180]
+prism_8_rot_y = 46.269775; // [-180:0.1:180]
+prism_8_rot_z = 90.090534; // [-180:0.1:180]
+prism_8_w = 4.6623; // [0:0.01:50]
+prism_8_h = 2.0013; // [0:0.01:50]
+prism_8_depth = 0.8983; // [0:0.01:50]
+prism_8_apex = 0.213912; // [-4:0.01:4]
 
 /* [Prism 9] */
-prism_9_cx = 0.0001; // [-50:0.01:50]
-prism_9_cy = -2.7924; // [-50:0.01:50]
-prism_9_cz = 4.0172; // [-50:0.01:50]
-prism_9_rot_x = 89.993296; // [-180:0.1:180]
-prism_9_rot_y = 43.931424; // [-180:0.1:180]
-prism_9_rot_z = 89.925352; // [-180:0.1:180]
-prism_9_w = 4.2562; // [0:0.01:50]
-prism_9_h = 1.8899; // [0:0.01:50]
-prism_9_depth = 0.9067; // [0:0.01:50]
-prism_9_apex = -0.204399; // [-4:0.01:4]
+prism_9_cx = -0.0003; // [-50:0.01:50]
+prism_9_cy = -2.7885; // [-50:0.01:50]
+prism_9_cz = 4.0275; // [-50:0.01:50]
+prism_9_rot_x = 89.917295; // [-180:0.1:180]
+prism_9_rot_y = 47.689379; // [-180:0.1:180]
+prism_9_rot_z = 89.821691; // [-180:0.1:180]
+prism_9_w = 4.2804; // [0:0.01:50]
+prism_9_h = 1.7167; // [0:0.01:50]
+prism_9_depth = 0.9055; // [0:0.01:50]
+prism_9_apex = -0.204494; // [-4:0.01:4]
+
+/* [Ellipsoid 10] */
+ellipsoid_10_cx = 4.5001; // [-50:0.01:50]
+ellipsoid_10_cy = 4.1423; // [-50:0.01:50]
+ellipsoid_10_cz = -2.6003; // [-50:0.01:50]
+ellipsoid_10_rot_x = -33.009567; // [-180:0.1:180]
+ellipsoid_10_rot_y = 74.154719; // [-180:0.1:180]
+ellipsoid_10_rot_z = 67.101744; // [-180:0.1:180]
+ellipsoid_10_rx = 1.5684; // [0:0.01:50]
+ellipsoid_10_ry = 4.8344; // [0:0.01:50]
+ellipsoid_10_rz = 1.7409; // [0:0.01:50]
 
 /* [Hidden] */
 $fn = segments;
@@ -121,18 +135,21 @@ function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
   fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
 
 module csg_high_res() {
-  union() {
-    difference() {
-      translate([prism_1_cx, prism_1_cy, prism_1_cz]) rotate([prism_1_rot_x, prism_1_rot_y, prism_1_rot_z]) linear_extrude(height = prism_1_depth, center = true) polygon([[-prism_1_w / 2, -prism_1_h / 2], [prism_1_w / 2, -prism_1_h / 2], [prism_1_apex * prism_1_w / 2, prism_1_h / 2]]);
-      translate([box_2_cx, box_2_cy, box_2_cz]) rotate([box_2_rot_x, box_2_rot_y, box_2_rot_z]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
-      translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
-      translate([cone_4_cx, cone_4_cy, cone_4_cz]) rotate([0, cone_4_rot_y, 0]) cylinder(h = cone_4_h, r1 = fn_r(cone_4_r1), r2 = fn_r(cone_4_r2), center = true);
-      translate([cone_5_cx, cone_5_cy, cone_5_cz]) rotate([0, cone_5_rot_y, 0]) cylinder(h = cone_5_h, r1 = fn_r(cone_5_r1), r2 = fn_r(cone_5_r2), center = true);
-      translate([cone_6_cx, cone_6_cy, cone_6_cz]) rotate([cone_6_rot_x, cone_6_rot_y, 0]) cylinder(h = cone_6_h, r1 = fn_r(cone_6_r1), r2 = fn_r(cone_6_r2), center = true);
-      translate([ellipsoid_7_cx, ellipsoid_7_cy, ellipsoid_7_cz]) rotate([ellipsoid_7_rot_x, ellipsoid_7_rot_y, ellipsoid_7_rot_z]) scale([ellipsoid_7_rx, ellipsoid_7_ry, ellipsoid_7_rz]) sphere(r = fn_sr(1));
+  difference() {
+    union() {
+      difference() {
+        translate([prism_1_cx, prism_1_cy, prism_1_cz]) rotate([prism_1_rot_x, prism_1_rot_y, prism_1_rot_z]) linear_extrude(height = prism_1_depth, center = true) polygon([[-prism_1_w / 2, -prism_1_h / 2], [prism_1_w / 2, -prism_1_h / 2], [prism_1_apex * prism_1_w / 2, prism_1_h / 2]]);
+        translate([box_2_cx, box_2_cy, box_2_cz]) rotate([box_2_rot_x, box_2_rot_y, box_2_rot_z]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
+        translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
+        translate([cone_4_cx, cone_4_cy, cone_4_cz]) rotate([cone_4_rot_x, cone_4_rot_y, 0]) cylinder(h = cone_4_h, r1 = fn_r(cone_4_r1), r2 = fn_r(cone_4_r2), center = true);
+        translate([cone_5_cx, cone_5_cy, cone_5_cz]) rotate([0, cone_5_rot_y, 0]) cylinder(h = cone_5_h, r1 = fn_r(cone_5_r1), r2 = fn_r(cone_5_r2), center = true);
+        translate([prism_6_cx, prism_6_cy, prism_6_cz]) rotate([prism_6_rot_x, prism_6_rot_y, prism_6_rot_z]) linear_extrude(height = prism_6_depth, center = true) polygon([[-prism_6_w / 2, -prism_6_h / 2], [prism_6_w / 2, -prism_6_h / 2], [prism_6_apex * prism_6_w / 2, prism_6_h / 2]]);
+        translate([ellipsoid_7_cx, ellipsoid_7_cy, ellipsoid_7_cz]) rotate([ellipsoid_7_rot_x, ellipsoid_7_rot_y, ellipsoid_7_rot_z]) scale([ellipsoid_7_rx, ellipsoid_7_ry, ellipsoid_7_rz]) sphere(r = fn_sr(1));
+      }
+      translate([prism_8_cx, prism_8_cy, prism_8_cz]) rotate([prism_8_rot_x, prism_8_rot_y, prism_8_rot_z]) linear_extrude(height = prism_8_depth, center = true) polygon([[-prism_8_w / 2, -prism_8_h / 2], [prism_8_w / 2, -prism_8_h / 2], [prism_8_apex * prism_8_w / 2, prism_8_h / 2]]);
+      translate([prism_9_cx, prism_9_cy, prism_9_cz]) rotate([prism_9_rot_x, prism_9_rot_y, prism_9_rot_z]) linear_extrude(height = prism_9_depth, center = true) polygon([[-prism_9_w / 2, -prism_9_h / 2], [prism_9_w / 2, -prism_9_h / 2], [prism_9_apex * prism_9_w / 2, prism_9_h / 2]]);
     }
-    translate([prism_8_cx, prism_8_cy, prism_8_cz]) rotate([prism_8_rot_x, prism_8_rot_y, prism_8_rot_z]) linear_extrude(height = prism_8_depth, center = true) polygon([[-prism_8_w / 2, -prism_8_h / 2], [prism_8_w / 2, -prism_8_h / 2], [prism_8_apex * prism_8_w / 2, prism_8_h / 2]]);
-    translate([prism_9_cx, prism_9_cy, prism_9_cz]) rotate([prism_9_rot_x, prism_9_rot_y, prism_9_rot_z]) linear_extrude(height = prism_9_depth, center = true) polygon([[-prism_9_w / 2, -prism_9_h / 2], [prism_9_w / 2, -prism_9_h / 2], [prism_9_apex * prism_9_w / 2, prism_9_h / 2]]);
+    translate([ellipsoid_10_cx, ellipsoid_10_cy, ellipsoid_10_cz]) rotate([ellipsoid_10_rot_x, ellipsoid_10_rot_y, ellipsoid_10_rot_z]) scale([ellipsoid_10_rx, ellipsoid_10_ry, ellipsoid_10_rz]) sphere(r = fn_sr(1));
   }
 }
 

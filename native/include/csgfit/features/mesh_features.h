@@ -28,8 +28,10 @@ struct AxisPlane {
 Quaternion dominant_frame(const TriangleMesh& mesh);
 
 /// `count` points spread over the mesh's surface in proportion to area (the same for the same
-/// seed): the samples the final least-squares refinement fits to.
-std::vector<Vec3> surface_samples(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed);
+/// seed): the samples the final least-squares refinement fits to. `normals`, when given,
+/// receives each point's unit triangle normal as the triangle is wound.
+std::vector<Vec3> surface_samples(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed,
+                                  std::vector<Vec3>* normals = nullptr);
 
 /// The mesh's planar faces perpendicular to a model axis (normals within half a degree of it):
 /// faces whose offsets lie within `merge` of one another are one plane (at their area-weighted

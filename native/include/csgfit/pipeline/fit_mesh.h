@@ -28,6 +28,9 @@ struct MeshFitOptions {
   /// 11 voxels across the part's mean wall thickness) and refine them against surface samples
   /// in this share of the time budget (half of it when the grids are alike); 0 = neither.
   double polish_share = 0.25;
+  /// Read the mesh's surface as primitives (planes, spheres, cylinders, cones, tori; seed 002's
+  /// recognition) and give them to the search as a first tree and proposals (issue 11).
+  bool surface_seeds = true;
 };
 
 /// A 3D fit: the tree in the input's coordinates and how it was obtained.

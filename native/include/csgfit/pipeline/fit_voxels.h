@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "csgfit/eval/mismatch.h"
 #include "csgfit/model/primitive3d.h"
@@ -15,6 +16,16 @@
 
 namespace csgfit {
 
+/// Trees and primitives read off the input's surface (fit_mesh fills them from the mesh): the
+/// search starts from the best of these trees and seed 003's decomposition, and ADD and INT try
+/// these primitives beside their match to the residual.
+struct SurfaceSeeds {
+  std::vector<Node3D> trees;
+  std::vector<Primitive3D> positives;  ///< convex surfaces: solids to add (round ones also trim)
+  std::vector<Primitive3D> negatives;  ///< concave surfaces: solids to cut away
+  bool empty() const { return trees.empty() && positives.empty() && negatives.empty(); }
+};
+
 /// Everything a 3D fit takes besides the voxels.
 struct FitOptions3D {
   double k = -1;               ///< size weight in voxels; < 0 means default_k3d(target)
@@ -24,6 +35,7 @@ struct FitOptions3D {
   std::uint64_t seed = 1;
   SearchParams search = SearchParams::for_3d();  ///< islands, odds, convergence (max_stale)
   bool optimize_tree = true;   ///< seed 001's optimiser as the last stage (same solid, smaller tree)
+  SurfaceSeeds surface;        ///< empty: the search knows only the voxels
 };
 
 /// k for a grid: 200 voxels per primitive per million voxels of the grid (the target's whole

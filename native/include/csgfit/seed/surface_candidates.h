@@ -1,0 +1,44 @@
+// Primitives read off a part's surface: seed 002's recognition and precedence graph on any
+// oriented surface points (a range image's, a mesh's samples). For range images they are the
+// result; for meshes (issue 11) a first tree and the proposals of the 3D search.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "csgfit/features/surface_detect.h"
+#include "csgfit/model/primitive3d.h"
+#include "csgfit/model/voxel_grid.h"
+#include "csgfit/seed/precedence_graph.h"
+#include "csgfit/seed/range_primitives.h"
+
+namespace csgfit {
+
+/// The median distance from a point to its nearest neighbour, over an even sample of 400.
+double point_spacing(const std::vector<Vec3>& points);
+
+/// `base` with the quadric kinds that `kinds` does not allow switched off; planes stay, since
+/// they are the bases of cylinders and cones too.
+SurfaceDetectOptions detector_for(SurfaceDetectOptions base, const PrimitiveSet3D& kinds);
+
+/// What a surface says: its patches and the precedence graph of their primitives.
+struct SurfaceReading {
+  std::vector<SurfacePatch> patches;
+  PrecedenceGraph graph;
+  double diagonal = 0;  ///< part_diagonal of the points
+};
+
+/// Detects the patches of `points` (unit `normals` out of the part), recognises their
+/// primitives (blocks only where boxes are allowed, each kind only where `kinds` allows it)
+/// and orders them in the precedence graph. Deterministic for a given seed.
+SurfaceReading read_surface(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                            const SurfaceDetectOptions& detect, const PrimitiveSet3D& kinds,
+                            std::uint64_t seed, const std::atomic<bool>* cancel = nullptr);
+
+/// Flips the normals that point into `solid` (a mesh wound inside out in places): each is
+/// judged by the voxels 1.5 voxels either side of its point.
+void orient_outwards(std::vector<Vec3>& normals, const std::vector<Vec3>& points,
+                     const VoxelGrid& solid);
+
+}  // namespace csgfit
