@@ -58,7 +58,10 @@ class TreeWriter {
   Tab shared_tab(double scale) const {
     Tab tab{"Shared dimensions", {}};
     const auto& self = *static_cast<const Derived*>(this);
-    for (const auto& [d, first] : shared_list_) {
+    for (const auto& entry : shared_list_) {
+      // Not structured bindings: clang 14 cannot capture them in the lambda below.
+      const SharedDimension& d = entry.first;
+      const P* first = entry.second;
       const DimensionField field = d.uses.front().field;
       const double v = field_value(*first, field) * scale;
       const bool position = field == DimensionField::CentreX || field == DimensionField::CentreY;
