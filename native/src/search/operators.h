@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "csgfit/model/tree.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/search/params.h"
 #include "model/random.h"
@@ -54,6 +55,28 @@ bool cut(Tree& tree, rnd::Rng& rng) {
   const std::size_t n = tree.node_count();
   if (n <= 1) return false;
   return erase_subtree(tree, 1 + rnd::pick(rng, n - 1));
+}
+
+/// A primitive read off the input (its surface in 3D, its boundary in 2D) with its sign: what
+/// ADD tries beside the residual's own pieces (issue 11: the designer's cylinder or hole, not
+/// the pieces that fill its pixels).
+template <typename Prim>
+struct Proposal {
+  Prim primitive;
+  bool positive = true;
+};
+
+/// ADD with a proposal: one of `proposals`, unioned with the root or a random subtree when
+/// positive, cut from it otherwise; false when there are none.
+template <typename Prim>
+bool add_proposal(CsgNode<Prim>& tree, const std::vector<Proposal<Prim>>& proposals,
+                  rnd::Rng& rng, std::vector<Prim>& fresh) {
+  if (proposals.empty()) return false;
+  const Proposal<Prim>& p = proposals[rnd::pick(rng, proposals.size())];
+  fresh.push_back(p.primitive);
+  CsgNode<Prim>* at = (rng() % 2 == 0) ? &tree : node_at(tree, rnd::pick(rng, tree.node_count()));
+  graft(*at, p.positive ? NodeKind::Union : NodeKind::Difference, CsgNode<Prim>::leaf(p.primitive));
+  return true;
 }
 
 /// The local optimisation of a perturbed tree: the leaves that are new (equal to one of

@@ -127,13 +127,8 @@ std::optional<Primitive3D> Operators3D::residual_match(const VoxelGrid& raster, 
 }
 
 bool Operators3D::add(Node3D& tree, const VoxelGrid& raster, std::vector<Primitive3D>& fresh) {
-  if (!pb_.proposals.empty() && rng_() % 2 == 0) {
-    const Problem3D::Proposal& p = pb_.proposals[pick(rng_, pb_.proposals.size())];
-    fresh.push_back(p.primitive);
-    Node3D* at = (rng_() % 2 == 0) ? &tree : node_at(tree, pick(rng_, tree.node_count()));
-    graft(*at, p.positive ? NodeKind::Union : NodeKind::Difference, Node3D::leaf(p.primitive));
-    return true;
-  }
+  if (!pb_.proposals.empty() && rng_() % 2 == 0)
+    return search_ops::add_proposal(tree, pb_.proposals, rng_, fresh);
   const bool as_union = rng_() & 1;
   const std::optional<Primitive3D> match = residual_match(raster, as_union);
   if (!match) return false;

@@ -39,11 +39,7 @@ struct Problem3D {
   std::vector<Primitive3D> hulls;
   // Primitives read off the input's surface, with their sign: what ADD tries beside the
   // residual's match (issue 11: the designer's cylinder, not the boxes that fill its voxels).
-  struct Proposal {
-    Primitive3D primitive;
-    bool positive = true;
-  };
-  std::vector<Proposal> proposals;
+  std::vector<search_ops::Proposal<Primitive3D>> proposals;
 };
 
 /// One island's perturbations and their random numbers.
