@@ -101,6 +101,8 @@ bool Operators2D::added_subtree(bool as_union, Node& added, std::vector<Primitiv
 }
 
 bool Operators2D::add(Node& tree, std::vector<Primitive>& fresh) {
+  if (!pb_.proposals.empty() && rng_() % 4 == 0)
+    return search_ops::add_proposal(tree, pb_.proposals, rng_, fresh);
   const bool as_union = rng_() & 1;
   Node added;
   if (!added_subtree(as_union, added, fresh)) return false;

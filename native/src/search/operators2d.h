@@ -31,6 +31,8 @@ struct Problem2D {
   std::vector<PrimitiveKind> kinds;
   std::vector<DistancePeak> shape_peaks;       // of the target: where ADD puts unions
   std::vector<DistancePeak> background_peaks;  // of the complement: where ADD puts cuts
+  // Primitives read off the boundary, with their sign: what ADD tries beside the peaks.
+  std::vector<search_ops::Proposal<Primitive>> proposals;
   LocalOptOptions new_leaf_opt, all_leaf_opt;
 };
 

@@ -90,9 +90,8 @@ Node greedy_cover(const Bitmap& target, const GreedyOptions& options) {
         if (auto m = match_region(piece.mask, options.primitives)) starts.push_back(m->primitive);
         break;
       }
-      if (as_union)
-        for (const Primitive& p : options.proposals)
-          if (p.contains(peaks.front().x, peaks.front().y)) starts.push_back(p);
+      for (const Primitive& p : as_union ? options.proposals : options.cut_proposals)
+        if (p.contains(peaks.front().x, peaks.front().y)) starts.push_back(p);
       for (const Primitive& fresh : starts) {
         Node trial = with_added(tree, has_tree, fresh, as_union);
         simplify(trial);

@@ -13,9 +13,11 @@ struct GreedyOptions {
   PrimitiveSet primitives = PrimitiveSet::all();
   double k = 25;
   int max_primitives = 64;
-  /// Primitives read off the input (boundary_rectangles): each is tried where it holds the
-  /// step's distance peak, beside the kinds placed at the peak.
+  /// Primitives read off the input (boundary_primitives): each is tried where it holds the
+  /// step's distance peak, beside the kinds placed at the peak; `proposals` where the tree
+  /// leaves pixels uncovered, `cut_proposals` (holes) where it has excess.
   std::vector<Primitive> proposals;
+  std::vector<Primitive> cut_proposals;
 };
 
 /// Builds a tree one primitive at a time: each step places every allowed kind at the largest

@@ -1,0 +1,52 @@
+// Circular arcs and straight segments of a bitmap's boundary: the circles, holes and edges a
+// designer drew, read off the contour instead of guessed from the distance map.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "csgfit/model/bitmap.h"
+
+namespace csgfit {
+
+/// A point of the sub-pixel contour (solver frame, pixel units) with its outward unit normal.
+struct ContourPoint {
+  double x = 0, y = 0;
+  double nx = 0, ny = 0;
+};
+
+/// The 0.5 level set of the shape blurred by a Gaussian of one pixel: one point where it
+/// crosses the segment between two neighbouring pixel centres, the normal from the blurred
+/// gradient. The blur turns the staircase of a slanted or round edge into a smooth curve.
+std::vector<ContourPoint> subpixel_contour(const Bitmap& mask);
+
+/// A circle that part of the contour lies on. `hole` when the shape lies outside it (a concave
+/// arc: the circle is to be cut), a disc of the shape otherwise.
+struct BoundaryArc {
+  double cx = 0, cy = 0, r = 0;
+  bool hole = false;
+  double coverage = 0;      ///< fraction of the circle's length the contour follows
+  std::size_t support = 0;  ///< contour points on it
+};
+
+/// The circles the contour of `mask` follows for at least a quarter of their length (within a
+/// pixel's fraction, normals agreeing), found by RANSAC on contour points with normals and
+/// refined by least squares; radii between 2.5 px and the canvas size. Each point explains at
+/// most one arc. Deterministic; at most `limit`, best supported first.
+std::vector<BoundaryArc> boundary_arcs(const Bitmap& mask, std::size_t limit = 16);
+
+/// A straight segment of the contour: the shape lies on the side n . p <= offset of its line
+/// (n the outward unit normal), and the contour follows the line for t in [t0, t1] along the
+/// tangent (-ny, nx).
+struct BoundaryLine {
+  double nx = 0, ny = 0, offset = 0;
+  double t0 = 0, t1 = 0;
+  std::size_t support = 0;  ///< contour points on it
+};
+
+/// The straight segments of the contour of `mask` at least 6 px long (points within 0.5 px,
+/// normals agreeing), found by RANSAC and refined by total least squares. Each point explains
+/// at most one segment. Deterministic; at most `limit`, longest first.
+std::vector<BoundaryLine> boundary_lines(const Bitmap& mask, std::size_t limit = 16);
+
+}  // namespace csgfit
