@@ -1,5 +1,6 @@
-// Design intent in 2D: near-equal radii and concentric centres made one (snap2d.h), and the
-// dimensions a tree then holds more than once named once (shared_dimensions.h).
+// Design intent in 2D: near-equal radii and concentric centres made one (snap2d.h), the
+// dimensions a tree then holds more than once named once (shared_dimensions.h), and the
+// pruning that refits what is left (prune.h) so that a sliver beside a plate goes.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "csgfit/eval/evaluator2d.h"
 #include "csgfit/model/shared_dimensions.h"
+#include "csgfit/optimise/prune.h"
 #include "csgfit/optimise/snap2d.h"
 
 namespace csgfit {
@@ -188,4 +190,25 @@ TEST(SharedDimensions3D, NamesSayHoleCylinderOrSphere) {
 }
 
 }  // namespace
+
+TEST(PruneRefitted, RemovesASliverThePlateTakesOverOnceItMoves) {
+  const Node truth = leaf(Primitive::rectangle(64, 64, 60, 40));
+  const Bitmap target = render(truth, 128, 128);
+  // The plate sits 2 px to the left; a sliver covers what it leaves on the right. Without the
+  // sliver 80 more pixels go uncovered, so seed 000's pruning (k = 25) keeps it.
+  Node tree = Node::op(NodeKind::Union, {leaf(Primitive::rectangle(62, 64, 60, 40)),
+                                         leaf(Primitive::rectangle(92, 64, 4, 40))});
+  Node kept = tree;
+  EXPECT_EQ(prune(kept, target, 25), 0u);
+  std::size_t evaluations = 0;
+  EXPECT_EQ(prune_refitted(tree, target, 25, LocalOptOptions::pattern(20, 2.0, 0.25), evaluations), 1u);
+  ASSERT_EQ(tree.primitive_count(), 1u);
+  EXPECT_LT(TreeEvaluator(target, tree).mismatch().total(), 10u);
+  EXPECT_GT(evaluations, 0u);
+  // Nothing to remove: the tree stays as it is.
+  Node exact = truth;
+  EXPECT_EQ(prune_refitted(exact, target, 25, LocalOptOptions::pattern(20, 2.0, 0.25), evaluations), 0u);
+  EXPECT_EQ(exact.primitive_count(), 1u);
+}
+
 }  // namespace csgfit

@@ -47,4 +47,31 @@ std::size_t prune(Node3D& tree, const VoxelGrid& target, double k) {
   return prune_tree<TreeEvaluator3D>(tree, target, k);
 }
 
+std::size_t prune_refitted(Node& tree, const Bitmap& target, double k, const LocalOptOptions& refit,
+                           std::size_t& evaluations, int rounds) {
+  auto score = [&](const TreeEvaluator& ev, const Node& t) {
+    return static_cast<double>(ev.mismatch().total()) + k * static_cast<double>(t.primitive_count());
+  };
+  std::size_t removed = 0;
+  for (int round = 0; round < rounds && tree.primitive_count() > 1; ++round) {
+    double best = score(TreeEvaluator(target, tree), tree);
+    Node best_tree;
+    bool found = false;
+    for (std::size_t i = 0; i < tree.primitive_count(); ++i) {
+      Node trial = tree;
+      erase_leaf(trial, leaves(trial)[i]);
+      if (!simplify(trial)) continue;
+      TreeEvaluator ev(target, trial);
+      optimize_leaves(ev, refit);
+      evaluations += ev.evaluations();
+      const double s = score(ev, trial);
+      if (s < best) best = s, best_tree = std::move(trial), found = true;
+    }
+    if (!found) break;
+    tree = std::move(best_tree);
+    ++removed;
+  }
+  return removed;
+}
+
 }  // namespace csgfit

@@ -17,7 +17,7 @@
 #include "csgfit/optimise/snap2d.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose2d.h"
-#include "csgfit/seed/boundary_rectangles.h"
+#include "csgfit/seed/boundary_primitives.h"
 #include "csgfit/seed/greedy2d.h"
 #include "pipeline/fit_request.h"
 #include "pipeline/problems.h"
@@ -47,6 +47,9 @@ Problem2D make_problem2d(const Bitmap& target, const FitOptions& options, Clock:
       at_fraction(start, options.time_limit, 1.0);
   pb.shape_peaks = distance_peaks(target, 1.0, 64);
   pb.background_peaks = distance_peaks(target.inverted(), 1.0, 64);
+  const BoundaryPrimitives drawn = boundary_primitives(target, options.primitives);
+  for (const Primitive& p : drawn.positives) pb.proposals.push_back({p, true});
+  for (const Primitive& p : drawn.holes) pb.proposals.push_back({p, false});
   return pb;
 }
 
@@ -71,7 +74,7 @@ SeedTrees2D seed_trees2d(const Bitmap& target, const FitOptions& options, const 
   GreedyOptions gopt;
   gopt.primitives = options.primitives;
   gopt.k = pb.k;
-  if (options.primitives.has(PrimitiveKind::Rectangle)) gopt.proposals = boundary_rectangles(target);
+  for (const auto& p : pb.proposals) (p.positive ? gopt.proposals : gopt.cut_proposals).push_back(p.primitive);
   s.greedy = ops.evaluate(greedy_cover(target, gopt), {});
   return s;
 }
@@ -146,6 +149,9 @@ Candidate polish(Candidate best, const Bitmap& target, const FitOptions& options
     evaluations += ev.evaluations();
   }
   prune(tree, target, pb.k);
+  LocalOptOptions refit = LocalOptOptions::pattern(4, 1.0, 1.0 / 16);
+  refit.deadline = lo.deadline;
+  prune_refitted(tree, target, pb.k, refit, evaluations);
   TreeEvaluator ev(target, tree);
   // Designer-friendly numbers for at most 0.2 % of the shape's pixels (and never more than
   // one primitive's worth of score).
