@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "features/contour_ransac.h"
 #include "model/random.h"
@@ -107,36 +108,15 @@ Circle refined(const std::vector<ContourPoint>& pts, const std::vector<std::size
 }
 
 // The fraction of the circle's length that the longest arc of points of `on` spans (bins of
-// 1.5 px of arc, gaps of two bins bridged): scattered points on several edges make no arc.
+// 1.5 px of arc).
 double coverage(const std::vector<ContourPoint>& pts, const std::vector<std::size_t>& on,
                 const Circle& k) {
-  const std::size_t bins = static_cast<std::size_t>(std::clamp(2 * kPi * k.r / 1.5, 8.0, 720.0));
-  std::vector<bool> seen(bins, false);
-  for (std::size_t i : on) {
-    const double a = std::atan2(pts[i].y - k.cy, pts[i].x - k.cx) + kPi;
-    seen[std::min(bins - 1, static_cast<std::size_t>(a / (2 * kPi) * static_cast<double>(bins)))] = true;
-  }
-  const auto first_empty = std::find(seen.begin(), seen.end(), false);
-  if (first_empty == seen.end()) return 1.0;
-  // Walk once around from an empty bin, so that a run over the seam is one run.
-  const std::size_t start = static_cast<std::size_t>(first_empty - seen.begin());
-  std::size_t longest = 0, run = 0, gap = 0;
-  for (std::size_t s = 1; s <= bins; ++s) {
-    if (seen[(start + s) % bins]) {
-      run += (run > 0 ? gap : 0) + 1, gap = 0;
-      longest = std::max(longest, run);
-    } else if (++gap > 2) {
-      run = 0, gap = 0;
-    }
-  }
-  return static_cast<double>(longest) / static_cast<double>(bins);
+  std::vector<double> angles;
+  for (std::size_t i : on) angles.push_back(std::atan2(pts[i].y - k.cy, pts[i].x - k.cx));
+  return contour_ransac::longest_run(angles, 2 * kPi * k.r / 1.5);
 }
 
-struct Hypothesis {
-  Circle circle;
-  int sign = 0;
-  std::size_t votes = 0;
-};
+using Hypothesis = contour_ransac::SignedHypothesis<Circle>;
 
 // The best-voted circle through three active points near one another (within a window drawn
 // from 8 to 64 px, so that small holes and large discs are both sampled), votes counted on a
@@ -194,36 +174,29 @@ std::vector<ContourPoint> subpixel_contour(const Bitmap& mask) {
 
 std::vector<BoundaryArc> boundary_arcs(const Bitmap& mask, std::size_t limit) {
   const std::vector<ContourPoint> pts = subpixel_contour(mask);
-  std::vector<bool> used(pts.size(), false);
   const double max_r = std::max(mask.width(), mask.height());
   rnd::Rng rng(0x2d0a4c5);
-  std::vector<BoundaryArc> arcs;
-  for (std::size_t round = 0; round < 2 * limit && arcs.size() < limit; ++round) {
-    std::vector<std::size_t> active;
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      if (!used[i]) active.push_back(i);
-    if (active.size() < 12) break;
-    const Hypothesis hyp = best_hypothesis(pts, active, max_r, rng);
-    if (hyp.votes == 0) break;
-    Circle k = hyp.circle;
-    std::vector<std::size_t> on;
-    for (double tolerance : {0.75, 0.5, 0.4}) {
-      on.clear();
-      for (std::size_t i : active)
-        if (on_circle(pts[i], k, hyp.sign, tolerance)) on.push_back(i);
-      if (on.size() < 3) break;
-      k = refined(pts, on, k);
-    }
-    for (std::size_t i : on) used[i] = true;  // explained, or at least not an arc: not again
+  auto hypothesise = [&](const std::vector<std::size_t>& active) -> std::optional<Hypothesis> {
+    Hypothesis h = best_hypothesis(pts, active, max_r, rng);
+    return h.votes > 0 ? std::optional<Hypothesis>(h) : std::nullopt;
+  };
+  auto inliers = [&](Hypothesis& h, const std::vector<std::size_t>& active) {
+    return contour_ransac::tightened_inliers(
+        active, 3, [&](std::size_t i, double tolerance) { return on_circle(pts[i], h.curve, h.sign, tolerance); },
+        [&](const std::vector<std::size_t>& on) { return h.curve = refined(pts, on, h.curve), true; });
+  };
+  auto read = [&](const Hypothesis& h, const std::vector<std::size_t>& on) -> std::optional<BoundaryArc> {
+    const Circle& k = h.curve;
     double rms = 0;
     for (std::size_t i : on) rms += std::pow(std::hypot(pts[i].x - k.cx, pts[i].y - k.cy) - k.r, 2);
     rms = on.empty() ? 1e9 : std::sqrt(rms / static_cast<double>(on.size()));
     const double cover = coverage(pts, on, k);
-    if (on.size() < 10 || cover < 0.25 || rms > 0.3 || k.r < 2.5 || k.r > max_r) continue;
+    if (on.size() < 10 || cover < 0.25 || rms > 0.3 || k.r < 2.5 || k.r > max_r) return std::nullopt;
     // The blur moves the 0.5 level of a disc (or of a hole) towards its centre by sigma^2 / 2r.
-    const double r = k.r + kSigma * kSigma / (2 * k.r);
-    arcs.push_back({k.cx, k.cy, r, hyp.sign < 0, cover, on.size()});
-  }
+    return BoundaryArc{k.cx, k.cy, k.r + kSigma * kSigma / (2 * k.r), h.sign < 0, cover, on.size()};
+  };
+  std::vector<BoundaryArc> arcs =
+      contour_ransac::sequential<BoundaryArc>(pts.size(), limit, 12, hypothesise, inliers, read);
   std::stable_sort(arcs.begin(), arcs.end(),
                    [](const BoundaryArc& a, const BoundaryArc& b) { return a.support > b.support; });
   return arcs;

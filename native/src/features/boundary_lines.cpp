@@ -1,6 +1,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "csgfit/features/boundary_curves.h"
 #include "features/contour_ransac.h"
@@ -84,34 +85,38 @@ Line best_hypothesis(const std::vector<ContourPoint>& pts, const std::vector<std
 
 std::vector<BoundaryLine> boundary_lines(const Bitmap& mask, std::size_t limit) {
   const std::vector<ContourPoint> pts = subpixel_contour(mask);
-  std::vector<bool> used(pts.size(), false);
   rnd::Rng rng(0x11e5);
-  std::vector<BoundaryLine> lines;
-  for (std::size_t round = 0; round < 2 * limit && lines.size() < limit; ++round) {
-    std::vector<std::size_t> active;
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      if (!used[i]) active.push_back(i);
-    if (active.size() < 6) break;
-    std::size_t votes = 0;
-    Line l = best_hypothesis(pts, active, rng, votes);
-    if (votes == 0) break;
-    std::vector<std::size_t> on;
+  struct Hypothesis {
+    Line line;
     double t0 = 0, t1 = 0;
+  };
+  auto hypothesise = [&](const std::vector<std::size_t>& active) -> std::optional<Hypothesis> {
+    std::size_t votes = 0;
+    const Line l = best_hypothesis(pts, active, rng, votes);
+    return votes > 0 ? std::optional<Hypothesis>(Hypothesis{l}) : std::nullopt;
+  };
+  auto inliers = [&](Hypothesis& h, const std::vector<std::size_t>& active) {
+    std::vector<std::size_t> on;
     for (double tolerance : {0.6, 0.4}) {
       on.clear();
       for (std::size_t i : active)
-        if (on_line(pts[i], l, tolerance)) on.push_back(i);
-      on = longest_run(pts, on, l, t0, t1);
+        if (on_line(pts[i], h.line, tolerance)) on.push_back(i);
+      on = longest_run(pts, on, h.line, h.t0, h.t1);
       if (on.size() < 3) break;
-      l = refined(pts, on, l);
+      h.line = refined(pts, on, h.line);
     }
-    for (std::size_t i : on) used[i] = true;
+    return on;
+  };
+  auto read = [&](const Hypothesis& h, const std::vector<std::size_t>& on) -> std::optional<BoundaryLine> {
+    const Line& l = h.line;
     double rms = 0;
     for (std::size_t i : on) rms += std::pow(l.nx * pts[i].x + l.ny * pts[i].y - l.offset, 2);
     rms = on.empty() ? 1e9 : std::sqrt(rms / static_cast<double>(on.size()));
-    if (on.size() < 6 || t1 - t0 < 6 || rms > 0.3) continue;
-    lines.push_back({l.nx, l.ny, l.offset, t0, t1, on.size()});
-  }
+    if (on.size() < 6 || h.t1 - h.t0 < 6 || rms > 0.3) return std::nullopt;
+    return BoundaryLine{l.nx, l.ny, l.offset, h.t0, h.t1, on.size()};
+  };
+  std::vector<BoundaryLine> lines =
+      contour_ransac::sequential<BoundaryLine>(pts.size(), limit, 6, hypothesise, inliers, read);
   std::stable_sort(lines.begin(), lines.end(), [](const BoundaryLine& a, const BoundaryLine& b) {
     return a.t1 - a.t0 > b.t1 - b.t0;
   });

@@ -49,4 +49,22 @@ struct BoundaryLine {
 /// at most one segment. Deterministic; at most `limit`, longest first.
 std::vector<BoundaryLine> boundary_lines(const Bitmap& mask, std::size_t limit = 16);
 
+/// An ellipse that part of the contour lies on (angle: of the rx axis, degrees in [0, 180)).
+struct BoundaryEllipse {
+  double cx = 0, cy = 0, rx = 0, ry = 0, angle = 0;
+  bool hole = false;
+  double coverage = 0;      ///< fraction of the ellipse's parameter the contour follows
+  std::size_t support = 0;  ///< contour points on it
+};
+
+/// The ellipses (not circles: the axes differ by more than 4 % and no circle follows the points
+/// as closely) the contour of `mask` follows for at least a quarter of their parameter, with at
+/// most half their points on one of `arcs` or `lines` that lies mostly off the ellipse (a flat
+/// ellipse can bridge a disc's arc and the straight edge it meets). RANSAC on conics through five points whose
+/// normals agree, refined by algebraic least squares; semi-axes from 2.5 px to the canvas size.
+/// Deterministic; at most `limit`, best supported first.
+std::vector<BoundaryEllipse> boundary_ellipses(const Bitmap& mask, const std::vector<BoundaryArc>& arcs,
+                                               const std::vector<BoundaryLine>& lines,
+                                               std::size_t limit = 8);
+
 }  // namespace csgfit
