@@ -1,7 +1,7 @@
-// Circular arcs and straight segments read off the boundary: exact discs, holes and half discs
-// found with their centre and radius to a fraction of a pixel and the right sign, straight edges
-// at their angle and offset, triangles and holes from them, and the greedy first tree of a
-// plate with two holes built from what the boundary shows.
+// Arcs, ellipses and straight segments read off the boundary: exact discs, holes and half discs
+// found with their centre and radius to a fraction of a pixel and the right sign, ellipses with
+// their axes and turn, straight edges at their angle and offset, triangles, slots and holes from
+// them, and first trees of a plate with holes built from what the boundary shows.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +9,7 @@
 #include "csgfit/features/boundary_curves.h"
 #include "csgfit/model/tree2d.h"
 #include "csgfit/seed/boundary_primitives.h"
+#include "csgfit/seed/candidate_selection.h"
 #include "csgfit/seed/greedy2d.h"
 
 using namespace csgfit;
@@ -140,4 +141,54 @@ TEST(BoundaryPrimitives, GiveTheGreedyTreeOfAPlateWithTwoHolesItsProgram) {
   Bitmap missed = target;
   missed.subtract(got);
   EXPECT_LT(differ.count() + missed.count(), 40u);
+}
+
+TEST(BoundaryEllipses, FindATurnedEllipseAndAnEllipticHoleButNoCircle) {
+  const Node part = Node::op(NodeKind::Difference,
+                             {Node::leaf(Primitive::ellipse(60.3, 64.7, 40, 22, 25)),
+                              Node::leaf(Primitive::ellipse(66.2, 62.1, 12, 6, 100))});
+  const Bitmap b = drawn(part);
+  const auto found = boundary_ellipses(b, boundary_arcs(b), boundary_lines(b));
+  auto near = [&](double cx, double cy, double rx, double ry, double angle, bool hole) {
+    for (const BoundaryEllipse& e : found) {
+      const double turn = std::fmod(std::fabs(e.angle - angle) + 180, 180);
+      if (std::hypot(e.cx - cx, e.cy - cy) < 0.5 && std::fabs(e.rx - rx) < 0.5 &&
+          std::fabs(e.ry - ry) < 0.5 && std::min(turn, 180 - turn) < 1.5 && e.hole == hole)
+        return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(near(60.3, 64.7, 40, 22, 25, false));
+  EXPECT_TRUE(near(66.2, 62.1, 12, 6, 100, true));
+  const Bitmap disc = drawn(Node::leaf(Primitive::circle(64, 64, 25)));
+  EXPECT_TRUE(boundary_ellipses(disc, {}, {}).empty());
+}
+
+TEST(BoundaryPrimitives, ReadASlotAsARectangularHole) {
+  const Primitive slot = Primitive::rectangle(70, 60, 30, 8, 0);
+  const Node plate = Node::op(NodeKind::Difference, {Node::leaf(Primitive::rectangle(64, 64, 90, 60, 0)),
+                                                     Node::leaf(slot)});
+  const BoundaryPrimitives read = boundary_primitives(drawn(plate), PrimitiveSet::all());
+  bool found = false;
+  for (const Primitive& p : read.holes)
+    found = found || (p.kind == PrimitiveKind::Rectangle && std::fabs(p.cx - slot.cx) < 0.75 &&
+                      std::fabs(p.cy - slot.cy) < 0.75 && std::fabs(p.area() - slot.area()) < 30);
+  EXPECT_TRUE(found);
+}
+
+TEST(CandidateSelection, ChoosesTheProgramAmongDistractors) {
+  const Primitive plate_p = Primitive::rectangle(64, 64, 90, 70, 0);
+  const Primitive hole_a = Primitive::circle(45.5, 60.2, 10), hole_b = Primitive::circle(85.2, 70.6, 6);
+  const Bitmap target = drawn(Node::op(NodeKind::Difference,
+                                       {Node::leaf(plate_p), Node::leaf(hole_a), Node::leaf(hole_b)}));
+  const std::vector<Primitive> positives = {Primitive::circle(64, 64, 30), plate_p,
+                                            Primitive::rectangle(40, 64, 40, 70, 0)};
+  const std::vector<Primitive> holes = {Primitive::circle(20, 20, 8), hole_b, hole_a,
+                                        Primitive::rectangle(64, 64, 10, 10, 0)};
+  const auto tree = select_candidates(target, positives, holes, 25);
+  ASSERT_TRUE(tree.has_value());
+  EXPECT_EQ(tree->primitive_count(), 3u);
+  EXPECT_EQ(render(*tree, 128, 128), target);
+  // Nothing worth a primitive: no tree.
+  EXPECT_FALSE(select_candidates(target, {Primitive::circle(10, 10, 3)}, {}, 25).has_value());
 }

@@ -18,6 +18,7 @@
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose2d.h"
 #include "csgfit/seed/boundary_primitives.h"
+#include "csgfit/seed/candidate_selection.h"
 #include "csgfit/seed/greedy2d.h"
 #include "pipeline/fit_request.h"
 #include "pipeline/problems.h"
@@ -76,6 +77,8 @@ SeedTrees2D seed_trees2d(const Bitmap& target, const FitOptions& options, const 
   gopt.k = pb.k;
   for (const auto& p : pb.proposals) (p.positive ? gopt.proposals : gopt.cut_proposals).push_back(p.primitive);
   s.greedy = ops.evaluate(greedy_cover(target, gopt), {});
+  if (auto chosen = select_candidates(target, gopt.proposals, gopt.cut_proposals, pb.k))
+    s.selection = ops.evaluate(std::move(*chosen), {});
   return s;
 }
 
@@ -85,16 +88,15 @@ using Candidate = Candidate2D;
 using Island = islands::Island<Operators2D>;
 using Seeds = SeedTrees2D;
 
-// Initial populations, built in parallel: the seed trees (alternating) where there are any,
+// Initial populations, built in parallel: the seed trees (in turn) where there are any,
 // seed 000's random trees otherwise.
 void fill_populations(std::vector<Island>& isles, const Seeds& seeds, const Problem2D& pb,
                       std::size_t per_island, const std::function<bool()>& out_of_time) {
   islands::in_parallel<Operators2D>(isles, [&](Island& isle) {
+    const std::vector<const Candidate*> seeded = seeds.present();
     for (std::size_t j = 0; j < per_island; ++j) {
-      const Candidate& seeded =
-          (j % 2 == 0 && seeds.decomposition.primitives > 0) ? seeds.decomposition : seeds.greedy;
-      if (seeded.primitives > 0) {
-        isle.population.push_back(seeded);
+      if (!seeded.empty()) {
+        isle.population.push_back(*seeded[j % seeded.size()]);
         continue;
       }
       if (out_of_time() && !isle.population.empty()) {

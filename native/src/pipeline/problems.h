@@ -23,6 +23,14 @@ Problem2D make_problem2d(const Bitmap& target, const FitOptions& options,
 struct SeedTrees2D {
   Candidate2D decomposition;  ///< seed 003, locally optimised
   Candidate2D greedy;         ///< the greedy residual cover
+  Candidate2D selection;      ///< the boundary's primitives chosen as unions and cuts
+  /// The seeds that exist (a tree with primitives), in this order.
+  std::vector<const Candidate2D*> present() const {
+    std::vector<const Candidate2D*> out;
+    for (const Candidate2D* c : {&decomposition, &greedy, &selection})
+      if (c->primitives > 0) out.push_back(c);
+    return out;
+  }
 };
 SeedTrees2D seed_trees2d(const Bitmap& target, const FitOptions& options, const Problem2D& pb,
                          Operators2D& ops, std::chrono::steady_clock::time_point start,

@@ -35,7 +35,7 @@ double follows_side(const BoundaryLine& l, const std::array<double, 2>& p, const
 
 // The triangle three segments bound on the shape's side of each (on the far side for a hole),
 // when each segment lies on its side and together they follow a third of its outline.
-std::optional<Corners> bounded_triangle(const BoundaryLine* l[3], bool hole) {
+std::optional<Corners> bounded_triangle(const BoundaryLine* l[3], bool hole, double& followed) {
   Corners v{};
   for (std::size_t k = 0; k < 3; ++k) {
     const auto c = corner(*l[(k + 1) % 3], *l[(k + 2) % 3]);
@@ -48,7 +48,8 @@ std::optional<Corners> bounded_triangle(const BoundaryLine* l[3], bool hole) {
   for (std::size_t k = 0; k < 3; ++k)
     if (side * (l[k]->nx * v[k][0] + l[k]->ny * v[k][1] - l[k]->offset) > -1) return std::nullopt;
   // Unions and cuts hide parts of a drawn triangle's sides: a third of its outline is enough.
-  double followed = 0, perimeter = 0;
+  double perimeter = 0;
+  followed = 0;
   for (std::size_t k = 0; k < 3; ++k) {
     const double f = follows_side(*l[k], v[(k + 1) % 3], v[(k + 2) % 3]);
     if (f <= 0) return std::nullopt;
@@ -59,16 +60,27 @@ std::optional<Corners> bounded_triangle(const BoundaryLine* l[3], bool hole) {
   return v;
 }
 
+// Whether every corner of a lies within 1.5 px of a corner of b (two readings of one triangle
+// by nearly collinear segments).
+bool same_corners(const Primitive& a, const Primitive& b) {
+  const auto va = a.triangle_vertices(), vb = b.triangle_vertices();
+  return std::all_of(va.begin(), va.end(), [&](const std::array<double, 2>& p) {
+    return std::any_of(vb.begin(), vb.end(), [&](const std::array<double, 2>& q) {
+      return std::hypot(p[0] - q[0], p[1] - q[1]) < 1.5;
+    });
+  });
+}
+
 Primitive triangle_through(const Corners& c) {
   const double v[3][2] = {{c[0][0], c[0][1]}, {c[1][0], c[1][1]}, {c[2][0], c[2][1]}};
   const TriangleFrame f = triangle_frame(v);
   return Primitive::triangle(f.cx, f.cy, f.w, f.h, f.angle * kRadToDeg, f.apex);
 }
 
-// The triangles three boundary segments bound: inside the shape but for 20 % of their area
-// (outside it for holes; the rest may be cut away by holes), at least 12 px, largest first.
-void boundary_triangles(const Bitmap& target, BoundaryPrimitives& out) {
-  const std::vector<BoundaryLine> lines = boundary_lines(target);
+// The triangles three boundary segments bound: inside the shape but for 35 % of their area
+// (outside it for holes; the rest may be cut away by holes), at least 12 px, those whose
+// outline the contour follows furthest first.
+void boundary_triangles(const Bitmap& target, const std::vector<BoundaryLine>& lines, BoundaryPrimitives& out) {
   std::vector<std::pair<double, Primitive>> found[2];
   Bitmap raster(target.width(), target.height());
   for (std::size_t i = 0; i < lines.size(); ++i)
@@ -76,21 +88,28 @@ void boundary_triangles(const Bitmap& target, BoundaryPrimitives& out) {
       for (std::size_t k = j + 1; k < lines.size(); ++k)
         for (int hole = 0; hole < 2; ++hole) {
           const BoundaryLine* l[3] = {&lines[i], &lines[j], &lines[k]};
-          const auto corners = bounded_triangle(l, hole == 1);
+          double followed = 0;
+          const auto corners = bounded_triangle(l, hole == 1, followed);
           if (!corners) continue;
           const Primitive t = triangle_through(*corners);
           if (t.area() < 12) continue;
           rasterize(t, raster);
           const std::size_t drawn = raster.count();
           if (hole == 0) raster.subtract(target); else raster &= target;
-          if (static_cast<double>(raster.count()) > 0.2 * static_cast<double>(drawn)) continue;
-          found[hole].emplace_back(t.area(), t);
+          if (static_cast<double>(raster.count()) > 0.35 * static_cast<double>(drawn)) continue;
+          found[hole].emplace_back(followed, t);
         }
   for (int hole = 0; hole < 2; ++hole) {
     std::stable_sort(found[hole].begin(), found[hole].end(),
                      [](const auto& a, const auto& b) { return a.first > b.first; });
-    for (std::size_t n = 0; n < std::min<std::size_t>(found[hole].size(), 24); ++n)
-      (hole ? out.holes : out.positives).push_back(found[hole][n].second);
+    std::vector<Primitive> kept;
+    for (const auto& candidate : found[hole]) {
+      if (kept.size() == 24) break;
+      if (std::none_of(kept.begin(), kept.end(),
+                       [&](const Primitive& k) { return same_corners(k, candidate.second); }))
+        kept.push_back(candidate.second);
+    }
+    (hole ? out.holes : out.positives).insert((hole ? out.holes : out.positives).end(), kept.begin(), kept.end());
   }
 }
 
@@ -98,14 +117,30 @@ void boundary_triangles(const Bitmap& target, BoundaryPrimitives& out) {
 
 BoundaryPrimitives boundary_primitives(const Bitmap& target, const PrimitiveSet& allowed) {
   BoundaryPrimitives out;
-  if (allowed.has(PrimitiveKind::Rectangle)) out.positives = boundary_rectangles(target);
-  if (allowed.has(PrimitiveKind::Triangle)) boundary_triangles(target, out);
-  const bool circles = allowed.has(PrimitiveKind::Circle);
-  if (!circles && !allowed.has(PrimitiveKind::Ellipse)) return out;
-  for (const BoundaryArc& a : boundary_arcs(target)) {
+  if (allowed.has(PrimitiveKind::Rectangle)) {
+    out.positives = boundary_rectangles(target);
+    // The background's rectangles are the slots and notches cut from the shape.
+    out.holes = boundary_rectangles(target.inverted(), 16);
+  }
+  const std::vector<BoundaryLine> lines = boundary_lines(target);
+  if (allowed.has(PrimitiveKind::Triangle)) boundary_triangles(target, lines, out);
+  const bool circles = allowed.has(PrimitiveKind::Circle), ellipses = allowed.has(PrimitiveKind::Ellipse);
+  if (!circles && !ellipses) return out;
+  const std::vector<BoundaryArc> arcs = boundary_arcs(target);
+  for (const BoundaryArc& a : arcs) {
     const Primitive p = circles ? Primitive::circle(a.cx, a.cy, a.r)
                                 : Primitive::ellipse(a.cx, a.cy, a.r, a.r, 0);
     (a.hole ? out.holes : out.positives).push_back(p);
+  }
+  if (!ellipses) return out;
+  for (const BoundaryEllipse& e : boundary_ellipses(target, arcs, lines)) {
+    // A circle read a little squashed is the circle already proposed.
+    const bool seen = std::any_of(arcs.begin(), arcs.end(), [&](const BoundaryArc& a) {
+      return a.hole == e.hole && std::hypot(a.cx - e.cx, a.cy - e.cy) < 1.5 &&
+             std::fabs((e.rx + e.ry) / 2 - a.r) < 0.1 * a.r;
+    });
+    if (!seen)
+      (e.hole ? out.holes : out.positives).push_back(Primitive::ellipse(e.cx, e.cy, e.rx, e.ry, e.angle));
   }
   return out;
 }
