@@ -11,6 +11,7 @@
 #include "csgfit/model/shared_dimensions.h"
 #include "csgfit/optimise/prune.h"
 #include "csgfit/optimise/snap2d.h"
+#include "refine/moves2d.h"
 
 namespace csgfit {
 namespace {
@@ -209,6 +210,29 @@ TEST(PruneRefitted, RemovesASliverThePlateTakesOverOnceItMoves) {
   Node exact = truth;
   EXPECT_EQ(prune_refitted(exact, target, 25, LocalOptOptions::pattern(20, 2.0, 0.25), evaluations), 0u);
   EXPECT_EQ(exact.primitive_count(), 1u);
+}
+
+TEST(LocalOpt, MovesOneSideOfARectangleAndKeepsTheOthers) {
+  // A plate whose left edge is off by some pixels cannot get there by growing (both sides move)
+  // or by shifting (the right side moves too): the local optimiser moves one side at a time.
+  const Primitive plate = Primitive::rectangle(64, 64, 60, 40, 20);
+  const double a = 20 * 3.14159265358979323846 / 180, c = std::cos(a), s = std::sin(a);
+  auto offset = [&](const Primitive& p, double nx, double ny, double half) {
+    return nx * p.cx + ny * p.cy + half;  // the side's line n . x = offset
+  };
+  using Param = Moves2D::Param;
+  const struct { Param side; double nx, ny; bool along_w; } sides[] = {
+      {Param::Right, c, s, true}, {Param::Left, -c, -s, true}, {Param::Top, -s, c, false}, {Param::Bottom, s, -c, false}};
+  for (const auto& moved : sides) {
+    Primitive p = plate;
+    Moves2D{}.move(p, moved.side, 2.5);
+    for (const auto& side : sides) {
+      const double before = offset(plate, side.nx, side.ny, (side.along_w ? plate.w : plate.h) / 2);
+      const double after = offset(p, side.nx, side.ny, (side.along_w ? p.w : p.h) / 2);
+      EXPECT_NEAR(after - before, side.side == moved.side ? 2.5 : 0.0, 1e-9);
+    }
+    EXPECT_DOUBLE_EQ(p.angle, plate.angle);
+  }
 }
 
 }  // namespace csgfit
