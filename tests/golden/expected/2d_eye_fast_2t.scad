@@ -16,8 +16,6 @@ centre_y = 64; // [0:0.1:200]
 rect_side = 8; // [0:0.1:200]
 // side of rectangles 2 and 3
 rect_side2 = 80; // [0:0.1:200]
-// side of rectangles 4 and 5
-rect_side3 = 64.5; // [0:0.1:200]
 
 /* [Ellipse 1] */
 ellipse_1_rx = 32; // [0:0.1:200]
@@ -36,11 +34,13 @@ rect_3_angle = 45; // [0:0.1:360]
 /* [Rectangle 4] */
 rect_4_cx = 38.5; // [0:0.1:200]
 rect_4_cy = 89.5; // [0:0.1:200]
+rect_4_w = 64.5; // [0:0.1:200]
 rect_4_angle = 45; // [0:0.1:360]
 
 /* [Rectangle 5] */
-rect_5_cx = 89.5; // [0:0.1:200]
-rect_5_cy = 38.5; // [0:0.1:200]
+rect_5_cx = 87; // [0:0.1:200]
+rect_5_cy = 36; // [0:0.1:200]
+rect_5_w = 72.5; // [0:0.1:200]
 rect_5_angle = 45; // [0:0.1:360]
 
 /* [Circle 6] */
@@ -61,8 +61,8 @@ module eye_in_diamond() {
       translate([centre_x, centre_y]) scale([ellipse_1_rx, ellipse_1_ry]) circle(r = fn_r(1));
       translate([rect_2_cx, rect_2_cy]) rotate(rect_2_angle) square([rect_side, rect_side2], center = true);
       translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_side, rect_side2], center = true);
-      translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_side3, rect_side], center = true);
-      translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_side3, rect_side], center = true);
+      translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_side], center = true);
+      translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_5_w, rect_side], center = true);
     }
     translate([centre_x, centre_y]) circle(r = fn_r(circle_6_r));
   }
