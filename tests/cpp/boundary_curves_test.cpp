@@ -148,7 +148,8 @@ TEST(BoundaryEllipses, FindATurnedEllipseAndAnEllipticHoleButNoCircle) {
                              {Node::leaf(Primitive::ellipse(60.3, 64.7, 40, 22, 25)),
                               Node::leaf(Primitive::ellipse(66.2, 62.1, 12, 6, 100))});
   const Bitmap b = drawn(part);
-  const auto found = boundary_ellipses(b, boundary_arcs(b), boundary_lines(b));
+  const Contour c = contour_of(b);
+  const auto found = boundary_ellipses(c, boundary_arcs(c), boundary_lines(c));
   auto near = [&](double cx, double cy, double rx, double ry, double angle, bool hole) {
     for (const BoundaryEllipse& e : found) {
       const double turn = std::fmod(std::fabs(e.angle - angle) + 180, 180);
@@ -161,7 +162,7 @@ TEST(BoundaryEllipses, FindATurnedEllipseAndAnEllipticHoleButNoCircle) {
   EXPECT_TRUE(near(60.3, 64.7, 40, 22, 25, false));
   EXPECT_TRUE(near(66.2, 62.1, 12, 6, 100, true));
   const Bitmap disc = drawn(Node::leaf(Primitive::circle(64, 64, 25)));
-  EXPECT_TRUE(boundary_ellipses(disc, {}, {}).empty());
+  EXPECT_TRUE(boundary_ellipses(contour_of(disc), {}, {}).empty());
 }
 
 TEST(BoundaryPrimitives, ReadASlotAsARectangularHole) {

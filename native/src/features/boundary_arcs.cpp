@@ -172,9 +172,9 @@ std::vector<ContourPoint> subpixel_contour(const Bitmap& mask) {
   return out;
 }
 
-std::vector<BoundaryArc> boundary_arcs(const Bitmap& mask, std::size_t limit) {
-  const std::vector<ContourPoint> pts = subpixel_contour(mask);
-  const double max_r = std::max(mask.width(), mask.height());
+std::vector<BoundaryArc> boundary_arcs(const Contour& contour, std::size_t limit) {
+  const std::vector<ContourPoint>& pts = contour.points;
+  const double max_r = contour.canvas;
   rnd::Rng rng(0x2d0a4c5);
   auto hypothesise = [&](const std::vector<std::size_t>& active) -> std::optional<Hypothesis> {
     Hypothesis h = best_hypothesis(pts, active, max_r, rng);
@@ -200,6 +200,14 @@ std::vector<BoundaryArc> boundary_arcs(const Bitmap& mask, std::size_t limit) {
   std::stable_sort(arcs.begin(), arcs.end(),
                    [](const BoundaryArc& a, const BoundaryArc& b) { return a.support > b.support; });
   return arcs;
+}
+
+std::vector<BoundaryArc> boundary_arcs(const Bitmap& mask, std::size_t limit) {
+  return boundary_arcs(contour_of(mask), limit);
+}
+
+Contour contour_of(const Bitmap& mask) {
+  return {subpixel_contour(mask), static_cast<double>(std::max(mask.width(), mask.height()))};
 }
 
 }  // namespace csgfit

@@ -166,10 +166,10 @@ double explained_by_rivals(const std::vector<ContourPoint>& pts, const std::vect
 
 }  // namespace
 
-std::vector<BoundaryEllipse> boundary_ellipses(const Bitmap& mask, const std::vector<BoundaryArc>& arcs,
+std::vector<BoundaryEllipse> boundary_ellipses(const Contour& contour, const std::vector<BoundaryArc>& arcs,
                                                const std::vector<BoundaryLine>& lines, std::size_t limit) {
-  const std::vector<ContourPoint> pts = subpixel_contour(mask);
-  const double max_r = std::max(mask.width(), mask.height());
+  const std::vector<ContourPoint>& pts = contour.points;
+  const double max_r = contour.canvas;
   rnd::Rng rng(0xe111);
   auto hypothesise = [&](const std::vector<std::size_t>& active) -> std::optional<Hypothesis> {
     Hypothesis h = best_hypothesis(pts, active, max_r, rng);
@@ -213,5 +213,6 @@ std::vector<BoundaryEllipse> boundary_ellipses(const Bitmap& mask, const std::ve
   });
   return found;
 }
+
 
 }  // namespace csgfit

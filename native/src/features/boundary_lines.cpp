@@ -83,8 +83,8 @@ Line best_hypothesis(const std::vector<ContourPoint>& pts, const std::vector<std
 
 }  // namespace
 
-std::vector<BoundaryLine> boundary_lines(const Bitmap& mask, std::size_t limit) {
-  const std::vector<ContourPoint> pts = subpixel_contour(mask);
+std::vector<BoundaryLine> boundary_lines(const Contour& contour, std::size_t limit) {
+  const std::vector<ContourPoint>& pts = contour.points;
   rnd::Rng rng(0x11e5);
   struct Hypothesis {
     Line line;
@@ -121,6 +121,10 @@ std::vector<BoundaryLine> boundary_lines(const Bitmap& mask, std::size_t limit) 
     return a.t1 - a.t0 > b.t1 - b.t0;
   });
   return lines;
+}
+
+std::vector<BoundaryLine> boundary_lines(const Bitmap& mask, std::size_t limit) {
+  return boundary_lines(contour_of(mask), limit);
 }
 
 }  // namespace csgfit

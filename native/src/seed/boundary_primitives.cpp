@@ -122,18 +122,19 @@ BoundaryPrimitives boundary_primitives(const Bitmap& target, const PrimitiveSet&
     // The background's rectangles are the slots and notches cut from the shape.
     out.holes = boundary_rectangles(target.inverted(), 16);
   }
-  const std::vector<BoundaryLine> lines = boundary_lines(target);
+  const Contour contour = contour_of(target);  // read once, by every reading below
+  const std::vector<BoundaryLine> lines = boundary_lines(contour);
   if (allowed.has(PrimitiveKind::Triangle)) boundary_triangles(target, lines, out);
   const bool circles = allowed.has(PrimitiveKind::Circle), ellipses = allowed.has(PrimitiveKind::Ellipse);
   if (!circles && !ellipses) return out;
-  const std::vector<BoundaryArc> arcs = boundary_arcs(target);
+  const std::vector<BoundaryArc> arcs = boundary_arcs(contour);
   for (const BoundaryArc& a : arcs) {
     const Primitive p = circles ? Primitive::circle(a.cx, a.cy, a.r)
                                 : Primitive::ellipse(a.cx, a.cy, a.r, a.r, 0);
     (a.hole ? out.holes : out.positives).push_back(p);
   }
   if (!ellipses) return out;
-  for (const BoundaryEllipse& e : boundary_ellipses(target, arcs, lines)) {
+  for (const BoundaryEllipse& e : boundary_ellipses(contour, arcs, lines)) {
     // A circle read a little squashed is the circle already proposed.
     const bool seen = std::any_of(arcs.begin(), arcs.end(), [&](const BoundaryArc& a) {
       return a.hole == e.hole && std::hypot(a.cx - e.cx, a.cy - e.cy) < 1.5 &&
