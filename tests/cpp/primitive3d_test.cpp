@@ -225,6 +225,21 @@ TEST(Primitive3D, SignedDistanceSignAgreesWithContains) {
   }
 }
 
+TEST(Primitive3D, SignedDistancesOfManyPointsAreEachPointsOwn) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> pt(-20, 20);
+  for (PrimitiveKind3D kind : kKinds) {
+    double c[3] = {1, -2, 3};
+    const Primitive3D p = random_primitive(rng, kind, c, 3, 30);
+    std::vector<Vec3> points(300);
+    for (Vec3& q : points) q = {pt(rng), pt(rng), pt(rng)};
+    std::vector<double> batch(points.size());
+    p.signed_distances(points.data(), points.size(), batch.data());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      ASSERT_EQ(batch[i], p.signed_distance(points[i][0], points[i][1], points[i][2])) << to_string(kind);
+  }
+}
+
 // Independent closest-point constructions for box, sphere, cylinder and torus.
 TEST(Primitive3D, SignedDistanceIsExactForBoxSphereCylinderTorus) {
   std::mt19937_64 rng(23);

@@ -96,11 +96,16 @@ struct Primitive3D {
   /// q' = local / semi-axes^2: zero exactly on the surface, the right sign everywhere, exact
   /// for a sphere and first-order accurate near the surface.
   double signed_distance(double x, double y, double z) const;
+  /// signed_distance at each of `n` points, into `out` (the rotation applied once).
+  void signed_distances(const Vec3* points, std::size_t n, double* out) const;
   /// Outward unit normal: the normalised gradient of signed_distance (central differences, so
   /// at edges and corners it averages the faces). {0, 0, 0} where the gradient vanishes.
   Vec3 normal_at(double x, double y, double z) const;
   /// Model point -> local frame.
   Vec3 to_local(double x, double y, double z) const;
+  /// contains and signed_distance of a point already in the local frame.
+  bool contains_local(const Vec3& local) const;
+  double signed_distance_local(const Vec3& local) const;
   /// Tight axis-aligned bounds of the rotated solid.
   Bounds3 bounds() const;
   /// Keeps sizes positive, tied sizes equal, r <= R for tori, the quaternion unit; called after
