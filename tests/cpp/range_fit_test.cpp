@@ -12,11 +12,14 @@
 #include "csgfit/io/range_read.h"
 #include "csgfit/pipeline/fit_range.h"
 #include "csgfit/seed/precedence_graph.h"
+#include "csgfit/seed/range_primitives.h"
+#include "range_scans.h"
 
 namespace csgfit {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::scan_of;
 const fs::path kRange = fs::path(CSGFIT_SOURCE_DIR) / ".." / "shared" / "benchmarks" / "range";
 
 struct Cloud {
@@ -122,6 +125,54 @@ TEST(SurfaceDetect, ConeAndTorusAreTheirOwnKinds) {
   EXPECT_NEAR(t.minor_radius, 0.5, 0.02);
 }
 
+TEST(SurfaceDetect, SphereBandSeenBelowACutIsASphere) {
+  // A band of a ball, 30 degrees high and 140 wide (a sphere cut above, hidden behind a block
+  // below): its normals spread little out of one plane, but no cylinder explains its points.
+  Cloud band;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 80; ++j) {
+      const double polar = (75 + 30.0 * i / 39) * M_PI / 180, az = (-70 + 140.0 * j / 79) * M_PI / 180;
+      const Vec3 n{std::sin(polar) * std::cos(az), std::sin(polar) * std::sin(az), std::cos(polar)};
+      band.add({1 + 2 * n[0], 2 * n[1], -1 + 2 * n[2]}, n);
+    }
+  const SurfacePatch p = largest(detect_surfaces(band.points, band.normals, {}, 1));
+  ASSERT_EQ(p.kind, SurfaceKind::Sphere);
+  EXPECT_NEAR(p.radius, 2, 1e-6);
+  EXPECT_NEAR(p.point[0], 1, 1e-6);
+  EXPECT_NEAR(p.point[2], -1, 1e-6);
+}
+
+TEST(RangePrimitives, LoneFacePartlyHiddenKeepsItsRectangle) {
+  // A 6 x 3 face at z = 1 turned by 30 degrees about z, a quarter of it hidden by something in
+  // front: the spread of what is seen turns, the rectangle around it does not.
+  const double turn = 30 * M_PI / 180;
+  const Vec3 u{std::cos(turn), std::sin(turn), 0}, w{-std::sin(turn), std::cos(turn), 0};
+  SurfacePatch face;
+  std::vector<Vec3> points;
+  for (int i = 0; i < 60; ++i)
+    for (int j = 0; j < 30; ++j) {
+      const double a = -3 + 6.0 * (i + 0.5) / 60, b = -1.5 + 3.0 * (j + 0.5) / 30;
+      if (a > 0 && b > 0) continue;
+      face.points.push_back(static_cast<int>(points.size()));
+      points.push_back({a * u[0] + b * w[0], a * u[1] + b * w[1], 1});
+    }
+  face.axis = {0, 0, 1};
+  face.point = {0, 0, 1};
+  const RecognisedPrimitives rec = recognise_primitives({face}, points, 6.7, 0.13);
+  ASSERT_EQ(rec.primitives.size(), 1u);
+  const Primitive3D& slab = rec.primitives[0].primitive;
+  const Mat3 r = slab.rotation.matrix();
+  bool along_side = false;
+  for (int c = 0; c < 3; ++c) {
+    const double cos_u = std::abs(r[0][c] * u[0] + r[1][c] * u[1]);
+    if (cos_u > std::cos(M_PI / 180)) {
+      along_side = true;
+      EXPECT_NEAR(slab.dims[c], 6, 0.15);
+    }
+  }
+  EXPECT_TRUE(along_side) << "an axis of the slab lies along the face's long side";
+}
+
 TEST(SurfaceDetect, SameSeedSamePatches) {
   const Cloud cloud = sphere_cap({0, 0, 0}, 1, true);
   const auto a = detect_surfaces(cloud.points, cloud.normals, {}, 7);
@@ -189,29 +240,6 @@ TEST(PrecedenceGraph, CutThatCutsNothingIsDropped) {
   std::vector<std::vector<Vec3>> points = {{{0, 0, 1}}, {{5, 0, 1}, {5, 1, 0}}};
   const PrecedenceGraph g = build_precedence_graph(nodes, {{1}, {0}}, points);
   EXPECT_EQ(g.nodes.size(), 1u);
-}
-
-// A scan rendered from a known tree through a benchmark sidecar's camera.
-RangeScan scan_of(const Node3D& tree, const RangeCamera& camera) {
-  RangeScan scan;
-  scan.camera = camera;
-  scan.width = camera.width, scan.height = camera.height;
-  const std::vector<double> depth = tree_depth_map(tree, camera, 1e-5);
-  for (int v = 0; v < camera.height; ++v)
-    for (int u = 0; u < camera.width; ++u) {
-      const double d = depth[static_cast<std::size_t>(v) * camera.width + u];
-      if (d <= 0) continue;
-      const Vec3 p = camera.world_point(u, v, d);
-      scan.points.push_back(p);
-      scan.pixel.push_back(v * camera.width + u);
-      // The exact outward normal, turned to the sensor.
-      const double h = 1e-6;
-      Vec3 n{signed_distance(tree, p[0] + h, p[1], p[2]) - signed_distance(tree, p[0] - h, p[1], p[2]),
-             signed_distance(tree, p[0], p[1] + h, p[2]) - signed_distance(tree, p[0], p[1] - h, p[2]),
-             signed_distance(tree, p[0], p[1], p[2] + h) - signed_distance(tree, p[0], p[1], p[2] - h)};
-      scan.normals.push_back(unit(n));
-    }
-  return scan;
 }
 
 TEST(FitRange, BlockWithAHoleComesBackAsTwoPrimitives) {

@@ -168,26 +168,50 @@ SurfaceDetectOptions none_of_the_kinds() {
   return o;
 }
 
-// The spread of a patch's normals: the eigenvalues of their scatter, largest first.
-Vec3 normal_spread(const SurfacePatch& s, const std::vector<Vec3>& normals) {
+// The scatter of a patch's normals about the origin: eigenvalues largest first, and the
+// direction of least spread (a cylinder's axis).
+struct NormalSpread {
+  Vec3 values;
+  Vec3 least;
+};
+
+NormalSpread normal_spread(const SurfacePatch& s, const std::vector<Vec3>& normals) {
   Mat3 c{};
   for (int i : s.points)
     for (int r = 0; r < 3; ++r)
       for (int q = 0; q < 3; ++q) c[r][q] += normals[i][r] * normals[i][q];
-  Vec3 values;
+  NormalSpread out;
   Mat3 vectors;
-  symmetric_eigen3(c, values, vectors);
-  return values;
+  symmetric_eigen3(c, out.values, vectors);
+  out.least = column(vectors, 2);
+  return out;
+}
+
+// Whether a cylinder about the normals' least-spread direction explains a sphere patch's
+// points nearly as well as the sphere does: a band of a cylinder, not of a sphere.
+bool cylinder_fits_as_well(const SurfacePatch& sphere, const Vec3& axis,
+                           const std::vector<Vec3>& points, const std::vector<Vec3>& normals) {
+  SurfacePatch cylinder = sphere;
+  cylinder.kind = SurfaceKind::Cylinder;
+  cylinder.axis = axis;
+  polish_patch(cylinder, points, normals);
+  return patch_rms(cylinder, points) < 2 * patch_rms(sphere, points);
 }
 
 // Whether the patch's normals turn as what RANSAC says it is. A sphere's normals fan out in
 // two directions (a band of a cylinder fits a sphere within epsilon too, but its normals lie
-// in one plane); a cylinder's or cone's turn by 10 degrees at least (a strip along a
-// concave edge, where an image's normals blend, fits a wide cylinder as well).
-bool curved_enough(const SurfacePatch& s, const std::vector<Vec3>& normals) {
+// in one plane); `band` accepts a narrower fan where no cylinder explains the points as well
+// (a sphere's band below a cut, seen past a block in front of it: one_sphere_two_cuboids, 3 %
+// spread). A cylinder's or cone's normals turn by 10 degrees at least (a strip along a concave
+// edge, where an image's normals blend, fits a wide cylinder as well).
+bool curved_enough(const SurfacePatch& s, const std::vector<Vec3>& points,
+                   const std::vector<Vec3>& normals, bool band) {
   if (s.kind == SurfaceKind::Plane) return true;
-  const Vec3 v = normal_spread(s, normals);
-  if (s.kind == SurfaceKind::Sphere) return v[2] > 0.05 * v[0];
+  const NormalSpread spread = normal_spread(s, normals);
+  const Vec3& v = spread.values;
+  if (s.kind == SurfaceKind::Sphere)
+    return v[2] > 0.05 * v[0] ||
+           (band && v[2] > 0.01 * v[0] && !cylinder_fits_as_well(s, spread.least, points, normals));
   return v[1] > 0.003 * v[0];
 }
 
@@ -218,8 +242,10 @@ struct Detection {
   // RANSAC on the free points in rounds: a shape refused leaves its points in the pool, and
   // another round may find what they really are (a plane RANSAC first took for a cylinder as
   // wide as a house). `proposal_normals` are what RANSAC sees; the fit uses the true ones.
+  enum class Pass { Hollows, Any, SphereBands };
+
   void run(const SurfaceDetectOptions& kinds, const Ransac::Parameters& params,
-           const std::vector<Vec3>& proposal_normals, bool hollows_only = false) {
+           const std::vector<Vec3>& proposal_normals, Pass pass = Pass::Any) {
     if (!(kinds.planes || kinds.spheres || kinds.cylinders || kinds.cones || kinds.tori)) return;
     for (int round = 0; round < 4; ++round) {
       std::size_t accepted = 0;
@@ -235,9 +261,9 @@ struct Detection {
           refit(patch, params);
         }
         if (!plausible(patch, diagonal) || patch.points.size() < params.min_points) continue;
-        if (!curved_enough(patch, normals)) continue;
+        if (!curved_enough(patch, points, normals, pass == Pass::SphereBands)) continue;
         patch.convex = is_convex(patch, points, normals);
-        if (hollows_only && patch.convex) continue;  // a bulge seen with its normals turned
+        if (pass == Pass::Hollows && patch.convex) continue;  // a bulge seen with its normals turned
         patch.rms = patch_rms(patch, points);
         for (int i : patch.points) taken[i] = 1;
         patches.push_back(std::move(patch));
@@ -346,9 +372,14 @@ std::vector<SurfacePatch> detect_surfaces(const std::vector<Vec3>& points,
   general_parameters.min_points = std::max(d.parameters.min_points, points.size() / 100);
   std::vector<Vec3> turned(normals.size());
   for (std::size_t i = 0; i < normals.size(); ++i) turned[i] = scale(normals[i], -1);
-  d.run(hollows, d.parameters, turned, true);
+  d.run(hollows, d.parameters, turned, Detection::Pass::Hollows);
   d.run(simple, d.parameters, normals);
   d.run(general, general_parameters, normals);
+  // Last, narrow bands of spheres on what every other kind left: earlier, a piece of a torus
+  // would pass for one and keep the torus from being found.
+  SurfaceDetectOptions spheres = none_of_the_kinds();
+  spheres.spheres = options.spheres;
+  d.run(spheres, d.parameters, normals, Detection::Pass::SphereBands);
   d.absorb_into_general(general_parameters);
   return std::move(d.patches);
 }

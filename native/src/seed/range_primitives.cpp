@@ -1,7 +1,12 @@
 #include "csgfit/seed/range_primitives.h"
 
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/convex_hull_2.h>
+#include <CGAL/min_quadrilateral_2.h>
+
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 
 #include "model/linalg.h"
@@ -11,6 +16,8 @@ namespace csgfit {
 using namespace linalg;
 
 namespace {
+
+using PlaneKernel = CGAL::Simple_cartesian<double>;
 
 constexpr double kParallel = 0.97;      // |cos| above which two directions are one
 constexpr double kPerpendicular = 0.15; // |cos| below which they are perpendicular
@@ -207,22 +214,31 @@ struct Recogniser {
     add_primitive(std::move(sp));
   }
 
-  // The in-plane direction of most spread of a lone face (its other two axes).
+  // The in-plane axis of a lone face: a side of the smallest rectangle around its points
+  // (CGAL's rotating calipers on their convex hull). A face that something in front hides in
+  // part keeps its rectangle's directions, where the spread of its points would turn with what
+  // hides it (mount's plate behind its boss: 9 degrees off, then too wide to be kept).
   Vec3 in_plane_axis(int k, const Vec3& n) const {
-    Vec3 mean{0, 0, 0};
-    for (int i : patches[k].points) mean = add(mean, points[i]);
-    mean = scale(mean, 1.0 / static_cast<double>(patches[k].points.size()));
-    Mat3 c{};
-    for (int i : patches[k].points) {
-      const Vec3 d = reject(sub(points[i], mean), n);
-      for (int r = 0; r < 3; ++r)
-        for (int q = 0; q < 3; ++q) c[r][q] += d[r] * d[q];
-    }
-    Vec3 values;
-    Mat3 vectors;
-    symmetric_eigen3(c, values, vectors);
-    const Vec3 v = normalized(reject(column(vectors, 0), n));
-    return norm(v) > 0 ? v : normalized(reject(std::abs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}, n));
+    const Vec3 u = normalized(reject(std::abs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}, n));
+    const Vec3 w = cross(n, u);
+    const Vec3 rectangle_side = min_rectangle_side(patches[k].points, u, w);
+    const Vec3 v = normalized(reject(rectangle_side, n));
+    return norm(v) > 0 ? v : u;
+  }
+
+  // A side of the smallest-area rectangle around the points projected on the plane (u, w).
+  Vec3 min_rectangle_side(const std::vector<int>& idx, const Vec3& u, const Vec3& w) const {
+    using Point2 = PlaneKernel::Point_2;
+    std::vector<Point2> projected, hull;
+    projected.reserve(idx.size());
+    for (int i : idx) projected.emplace_back(dot(points[i], u), dot(points[i], w));
+    CGAL::convex_hull_2(projected.begin(), projected.end(), std::back_inserter(hull));
+    if (hull.size() < 3) return u;
+    std::vector<Point2> corners;
+    CGAL::min_rectangle_2(hull.begin(), hull.end(), std::back_inserter(corners));
+    if (corners.size() < 2) return u;
+    const double du = corners[1].x() - corners[0].x(), dw = corners[1].y() - corners[0].y();
+    return add(scale(u, du), scale(w, dw));
   }
 
   // A lone face seen with no side: a positive slab reaches as deep behind it as the part does
