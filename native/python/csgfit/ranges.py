@@ -32,8 +32,9 @@ PathLike = Union[str, bytes, os.PathLike]
 class GraphNode:
     """A primitive of the precedence graph: kind ("box", "cylinder"...), sign ("positive" or
     "negative"), order (1-based rank in its subobject; odd = positive), subobject (0-based),
-    the primitive in model units, its dims (box lengths; cylinder r, r, altitude) and the
-    indices of the surface patches it explains."""
+    the primitive in model units, its dims (box lengths; cylinder r, r, altitude), the
+    indices of the surface patches it explains, and whether it is a conjectured cut (a
+    halfspace through a seen face that the search added, not a surface seen as concave)."""
 
     kind: str
     sign: str
@@ -42,6 +43,7 @@ class GraphNode:
     primitive: Primitive3D
     dims: Tuple[float, ...]
     patches: Tuple[int, ...]
+    conjectured: bool = False
 
     @property
     def positive(self) -> bool:
@@ -76,7 +78,8 @@ class PrecedenceGraph:
         nodes = [GraphNode(kind=n["kind"], sign=n["sign"], order=int(n["order"]),
                            subobject=int(n["subobject"]),
                            primitive=Primitive3D.from_dict(n["primitive"]),
-                           dims=tuple(n.get("dims") or ()), patches=tuple(n.get("patches") or ()))
+                           dims=tuple(n.get("dims") or ()), patches=tuple(n.get("patches") or ()),
+                           conjectured=bool(n.get("conjectured", False)))
                  for n in d.get("nodes") or []]
         arcs = [GraphArc(from_=int(a["from"]), to=int(a["to"]), kind=a["kind"])
                 for a in d.get("arcs") or []]

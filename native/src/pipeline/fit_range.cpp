@@ -12,6 +12,8 @@
 #include "csgfit/eval/range_view.h"
 #include "csgfit/features/range_evidence.h"
 #include "csgfit/refine/range_refine.h"
+#include "csgfit/search/graph_search.h"
+#include "csgfit/seed/evidence_pockets.h"
 #include "csgfit/seed/surface_candidates.h"
 #include "fit_request.h"
 #include "model/linalg.h"
@@ -71,8 +73,9 @@ std::vector<int> patch_labels(const std::vector<SurfacePatch>& patches, std::siz
 }
 
 double evidence_score(const PrecedenceGraph& g, const RangeEvidence& evidence, double k) {
-  const Node3D tree = precedence_tree(g);
-  return static_cast<double>(evidence_mismatch(tree, evidence).total()) +
+  std::vector<int> leaf_nodes;
+  const Node3D tree = precedence_tree(g, &leaf_nodes);
+  return static_cast<double>(evidence_mismatch(tree, evidence, conjectured_leaves(g, leaf_nodes)).total()) +
          k * static_cast<double>(tree.primitive_count());
 }
 
@@ -96,9 +99,83 @@ void refine_graph(PrecedenceGraph& g, const RangeEvidence& evidence,
                   std::chrono::steady_clock::time_point deadline, const std::atomic<bool>* cancel) {
   std::vector<int> leaf_nodes;
   Node3D tree = precedence_tree(g, &leaf_nodes);
-  refine_to_evidence(tree, evidence, deadline, cancel);
+  if (leaf_nodes.empty()) return;
+  refine_to_evidence(tree, evidence, deadline, cancel, {}, 40, conjectured_leaves(g, leaf_nodes));
   const std::vector<const Primitive3D*> refined = leaves(static_cast<const Node3D&>(tree));
   for (std::size_t i = 0; i < refined.size(); ++i) g.nodes[leaf_nodes[i]].primitive = *refined[i];
+}
+
+// RANSAC draws its shapes at random, and another draw may read right what one read wrong (a
+// block's faces joined with its neighbour's): the candidates of a few readings together.
+constexpr int kReadings = 3;
+
+std::vector<SignedPrimitive> proposals_of_readings(const SurfaceReading& first,
+                                                   const MergedPoints& m,
+                                                   const RangeFitOptions& o,
+                                                   const std::atomic<bool>* cancel) {
+  std::vector<SignedPrimitive> pool = surface_proposals(first, m.points, o.primitives);
+  for (int draw = 1; draw < kReadings && !(cancel && cancel->load()); ++draw) {
+    const SurfaceReading r =
+        read_surface(m.points, m.normals, o.detect, o.primitives, o.seed + draw, cancel);
+    add_distinct(pool, surface_proposals(r, m.points, o.primitives), m.diagonal);
+  }
+  return pool;
+}
+
+// What `tree` leaves unexplained, read again on its own: the points further than `tolerance`
+// from its surface, where a patch too small to count among all the points may stand out.
+std::vector<SignedPrimitive> residual_proposals(const Node3D& tree, const MergedPoints& m,
+                                                double tolerance, const RangeFitOptions& o,
+                                                const std::atomic<bool>* cancel) {
+  std::vector<Vec3> points, normals;
+  for (std::size_t i = 0; i < m.points.size(); ++i)
+    if (std::abs(signed_distance(tree, m.points[i][0], m.points[i][1], m.points[i][2])) > tolerance)
+      points.push_back(m.points[i]), normals.push_back(m.normals[i]);
+  if (points.size() < 100) return {};
+  // The whole part's tolerances, not the residual's (a few small pieces far apart).
+  SurfaceDetectOptions detect = o.detect;
+  if (detect.epsilon <= 0) detect.epsilon = 0.0025 * m.diagonal;
+  if (detect.cluster_epsilon <= 0) detect.cluster_epsilon = 0.015 * m.diagonal;
+  const SurfaceReading r = read_surface(points, normals, detect, o.primitives, o.seed, cancel);
+  return surface_proposals(r, points, o.primitives);
+}
+
+// Seed 002's graph tested against what the views saw (steps 4 and 5 beyond the seed): pruned
+// and polished, searched over the candidates, searched again with what the residual shows
+// (surface the tree leaves unexplained, read again; empty space it fills, cut away), polished
+// and pruned.
+void improve_against_views(RangeFitResult& result, std::vector<SignedPrimitive> pool,
+                           const std::vector<RangeScan>& scans, const MergedPoints& merged,
+                           const RangeFitOptions& o, std::chrono::steady_clock::time_point start,
+                           const std::atomic<bool>* cancel) {
+  // The surface tolerance: twice RANSAC's, so that sensor noise is not a mismatch.
+  const double tolerance = 0.008 * result.diagonal;
+  const RangeEvidence evidence = gather_evidence(scans, tolerance, 6000);
+  const double k = evidence_k(evidence);
+  prune_by_evidence(result.graph, evidence, k);
+  // The graph's own primitives polished first: the search then compares candidates with a
+  // tree that is as good as its structure allows.
+  refine_graph(result.graph, evidence, at_fraction(start, o.time_limit, 0.2), cancel);
+  GraphSearchOptions search;
+  search.k = k;
+  search.cancel = cancel;
+  GraphSearchStats stats;
+  const auto search_until = [&](double fraction) {
+    search.deadline = at_fraction(start, o.time_limit, fraction);
+    result.graph = search_graph(std::move(result.graph), pool, evidence, search, &stats);
+    result.stats.trees += stats.trials;
+  };
+  search_until(0.45);
+  // The residual of the tree searched so far: surface it leaves unexplained, read again, and
+  // empty space it fills, cut away.
+  add_distinct(pool, residual_proposals(precedence_tree(result.graph), merged, tolerance, o, cancel),
+               result.diagonal);
+  if (o.primitives.has(PrimitiveKind3D::Box))
+    add_distinct(pool, pocket_proposals(result.graph, evidence, 0.03 * result.diagonal), result.diagonal);
+  search_until(0.6);
+  result.stats.evaluations = result.stats.trees;
+  refine_graph(result.graph, evidence, at_fraction(start, o.time_limit, 0.9), cancel);
+  prune_by_evidence(result.graph, evidence, k);
 }
 
 bool report(const ProgressCallback& progress, double fraction, double seconds,
@@ -129,18 +206,13 @@ RangeFitResult fit_range(const std::vector<RangeScan>& scans, const RangeFitOpti
   result.diagonal = merged.diagonal;
   SurfaceReading reading = read_surface(merged.points, merged.normals, options.detect,
                                         options.primitives, options.seed, cancel);
+  std::vector<SignedPrimitive> pool = proposals_of_readings(reading, merged, options, cancel);
   result.patches = std::move(reading.patches);
   result.patch_of_point = patch_labels(result.patches, merged.points.size());
   result.graph = std::move(reading.graph);
   const bool go_on = report(progress, 0.4, elapsed(), 0) && !(cancel && cancel->load());
-  if (!result.graph.nodes.empty() && go_on) {
-    // The surface tolerance: twice RANSAC's, so that sensor noise is not a mismatch.
-    const RangeEvidence evidence = gather_evidence(scans, 0.008 * merged.diagonal, 6000);
-    const double k = evidence_k(evidence);
-    prune_by_evidence(result.graph, evidence, k);
-    refine_graph(result.graph, evidence, at_fraction(start, options.time_limit, 0.9), cancel);
-    prune_by_evidence(result.graph, evidence, k);
-  }
+  if (!pool.empty() && go_on)
+    improve_against_views(result, std::move(pool), scans, merged, options, start, cancel);
   result.tree = precedence_tree(result.graph);
   if (result.tree.is_leaf() && result.graph.nodes.empty())
     throw InputError("no primitive surface recognised in the points");

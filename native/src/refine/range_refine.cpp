@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "refine/moves3d.h"
 #include "refine/pattern_search.h"
@@ -11,18 +12,23 @@ namespace csgfit {
 namespace {
 
 constexpr double kUnits = 64;  // graded counts: a sample wholly wrong counts 64
+constexpr double kHiddenUnits = 4;  // a hidden sample erased: a sixteenth of one seen
 
 // Signed distances of every leaf at every sample, cached so that moving one leaf re-evaluates
-// only that leaf: the tree's distance is then composed from the cache per sample.
+// only that leaf: the tree's distance is then composed from the cache.
 class EvidenceEvaluator {
  public:
-  EvidenceEvaluator(Node3D& tree, const RangeEvidence& evidence) : tree_(tree), evidence_(evidence) {
+  EvidenceEvaluator(Node3D& tree, const EvidenceSamples& samples, std::vector<bool> conjectured)
+      : tree_(tree), samples_(samples), conjectured_(std::move(conjectured)),
+        nothing_(samples.size(), std::numeric_limits<double>::infinity()) {
     collect(tree_);
-    for (const Vec3& p : evidence_.surface) samples_.push_back(p);
-    for (const Vec3& p : evidence_.empty) samples_.push_back(p);
+    conjectured_.resize(leaves_.size(), false);
     distances_.resize(leaves_.size());
-    for (std::size_t i = 0; i < leaves_.size(); ++i) fill(*leaves_[i], distances_[i]);
-    mismatch_ = measure(-1, nullptr);
+    for (std::size_t i = 0; i < leaves_.size(); ++i) {
+      samples_.distances(*leaves_[i], distances_[i]);
+      pointers_.push_back(distances_[i].data());
+    }
+    mismatch_ = measure();
   }
 
   std::size_t leaf_count() const { return leaves_.size(); }
@@ -30,12 +36,16 @@ class EvidenceEvaluator {
   const Mismatch& mismatch() const { return mismatch_; }
 
   Mismatch try_leaf(std::size_t i, const Primitive3D& trial) {
-    fill(trial, trial_);
-    return measure(static_cast<int>(i), &trial_);
+    samples_.distances(trial, trial_);
+    pointers_[i] = trial_.data();
+    const Mismatch m = measure();
+    pointers_[i] = distances_[i].data();
+    return m;
   }
   void update_leaf(std::size_t i) {
-    fill(*leaves_[i], distances_[i]);
-    mismatch_ = measure(-1, nullptr);
+    samples_.distances(*leaves_[i], distances_[i]);
+    pointers_[i] = distances_[i].data();
+    mismatch_ = measure();
   }
 
  private:
@@ -43,67 +53,115 @@ class EvidenceEvaluator {
     if (n.is_leaf()) leaves_.push_back(&n.primitive);
     for (Node3D& c : n.children) collect(c);
   }
-  void fill(const Primitive3D& p, std::vector<double>& out) const {
-    out.resize(samples_.size());
-    for (std::size_t s = 0; s < samples_.size(); ++s)
-      out[s] = p.signed_distance(samples_[s][0], samples_[s][1], samples_[s][2]);
-  }
-  double compose(const Node3D& n, std::size_t s, int& leaf, int replaced,
-                 const std::vector<double>* trial) const {
-    if (n.is_leaf()) {
-      const int at = leaf++;
-      return at == replaced ? (*trial)[s] : distances_[at][s];
-    }
-    double d = compose(n.children.front(), s, leaf, replaced, trial);
-    for (std::size_t c = 1; c < n.children.size(); ++c)
-      d = compose_distance(n.kind, d, compose(n.children[c], s, leaf, replaced, trial));
-    return d;
-  }
-  Mismatch measure(int replaced, const std::vector<double>* trial) const {
-    const double tol = evidence_.tolerance;
-    double off = 0, inside = 0;
-    const std::size_t n_surface = evidence_.surface.size();
-    for (std::size_t s = 0; s < samples_.size(); ++s) {
-      int leaf = 0;
-      const double d = compose(tree_, s, leaf, replaced, trial);
-      if (s < n_surface) off += std::min(1.0, std::abs(d) / tol);
-      else if (d < 0) inside += std::min(1.0, -d / tol);
-    }
-    Mismatch m;
-    m.uncovered = static_cast<std::size_t>(std::llround(kUnits * off));
-    m.excess = static_cast<std::size_t>(std::llround(kUnits * inside));
-    return m;
+  Mismatch measure() {
+    const std::size_t n = samples_.size();
+    const std::vector<double>& tree = composer_.compose(tree_, pointers_, n);
+    // The conjectured cuts taken out (cutting nothing) for the hidden samples' count.
+    std::vector<const double*> kept = pointers_;
+    for (std::size_t i = 0; i < kept.size(); ++i)
+      if (conjectured_[i]) kept[i] = nothing_.data();
+    return samples_.mismatch(tree.data(), hidden_composer_.compose_from(tree_, kept, n, samples_.hidden_start()).data());
   }
 
   Node3D& tree_;
-  const RangeEvidence& evidence_;
+  const EvidenceSamples& samples_;
+  std::vector<bool> conjectured_;
+  const std::vector<double> nothing_;  // the distances of an empty solid
   std::vector<Primitive3D*> leaves_;
-  std::vector<Vec3> samples_;
   std::vector<std::vector<double>> distances_;
+  std::vector<const double*> pointers_;
   std::vector<double> trial_;
+  DistanceComposer composer_, hidden_composer_;
   Mismatch mismatch_;
 };
 
 }  // namespace
 
-Mismatch evidence_mismatch(const Node3D& tree, const RangeEvidence& evidence) {
-  Node3D copy = tree;
-  return EvidenceEvaluator(copy, evidence).mismatch();
+EvidenceSamples::EvidenceSamples(const RangeEvidence& evidence)
+    : surface_(evidence.surface.size()), hidden_(evidence.surface.size() + evidence.empty.size()),
+      tolerance_(evidence.tolerance) {
+  points_.reserve(hidden_ + evidence.hidden.size());
+  points_.insert(points_.end(), evidence.surface.begin(), evidence.surface.end());
+  points_.insert(points_.end(), evidence.empty.begin(), evidence.empty.end());
+  points_.insert(points_.end(), evidence.hidden.begin(), evidence.hidden.end());
 }
 
-double evidence_k(const RangeEvidence& evidence) {
-  return 0.002 * kUnits * static_cast<double>(evidence.surface.size() + evidence.empty.size());
+void EvidenceSamples::distances(const Primitive3D& p, std::vector<double>& out) const {
+  out.resize(points_.size());
+  p.signed_distances(points_.data(), points_.size(), out.data());
 }
+
+const std::vector<double>& DistanceComposer::compose(const Node3D& tree,
+                                                     const std::vector<const double*>& leaves,
+                                                     std::size_t samples) {
+  return compose_from(tree, leaves, samples, 0);
+}
+
+const std::vector<double>& DistanceComposer::compose_from(const Node3D& tree,
+                                                          const std::vector<const double*>& leaves,
+                                                          std::size_t samples, std::size_t from) {
+  // Sized before composing: a buffer must not move while a level below writes another.
+  levels_.resize(static_cast<std::size_t>(tree.depth()) + 2);
+  for (auto& level : levels_) level.resize(samples);
+  from_ = std::min(from, samples);
+  std::size_t next = 0;
+  into(tree, leaves, next, 1, levels_[0]);
+  return levels_[0];
+}
+
+// `out` takes the first child's distances; level `level` holds each further child's in turn.
+void DistanceComposer::into(const Node3D& node, const std::vector<const double*>& leaves,
+                            std::size_t& next, std::size_t level, std::vector<double>& out) {
+  if (node.is_leaf()) {
+    const double* d = leaves[next++];
+    std::copy(d + from_, d + out.size(), out.begin() + static_cast<std::ptrdiff_t>(from_));
+    return;
+  }
+  into(node.children.front(), leaves, next, level + 1, out);
+  std::vector<double>& other = levels_[level];
+  for (std::size_t c = 1; c < node.children.size(); ++c) {
+    into(node.children[c], leaves, next, level + 1, other);
+    for (std::size_t s = from_; s < out.size(); ++s) out[s] = compose_distance(node.kind, out[s], other[s]);
+  }
+}
+
+Mismatch EvidenceSamples::mismatch(const double* tree, const double* unconjectured) const {
+  double off = 0, inside = 0, erased = 0;
+  for (std::size_t s = 0; s < surface_; ++s) off += std::min(1.0, std::abs(tree[s]) / tolerance_);
+  for (std::size_t s = surface_; s < hidden_; ++s)
+    if (tree[s] < 0) inside += std::min(1.0, -tree[s] / tolerance_);
+  for (std::size_t s = hidden_; s < points_.size(); ++s)
+    if (unconjectured[s] < 0 && tree[s] > 0)
+      erased += std::min(1.0, std::min(-unconjectured[s], tree[s]) / tolerance_);
+  Mismatch m;
+  m.uncovered = static_cast<std::size_t>(std::llround(kUnits * off + kHiddenUnits * erased));
+  m.excess = static_cast<std::size_t>(std::llround(kUnits * inside));
+  return m;
+}
+
+double EvidenceSamples::k() const { return 0.007 * kUnits * static_cast<double>(surface_); }
+
+Mismatch evidence_mismatch(const Node3D& tree, const RangeEvidence& evidence,
+                           const std::vector<bool>& conjectured) {
+  Node3D copy = tree;
+  const EvidenceSamples samples(evidence);
+  return EvidenceEvaluator(copy, samples, conjectured).mismatch();
+}
+
+double evidence_k(const RangeEvidence& evidence) { return EvidenceSamples(evidence).k(); }
 
 std::size_t refine_to_evidence(Node3D& tree, const RangeEvidence& evidence,
                                std::chrono::steady_clock::time_point deadline,
-                               const std::atomic<bool>* cancel) {
-  EvidenceEvaluator ev(tree, evidence);
+                               const std::atomic<bool>* cancel,
+                               std::vector<std::size_t> leaf_indices, int sweeps,
+                               const std::vector<bool>& conjectured) {
+  const EvidenceSamples samples(evidence);
+  EvidenceEvaluator ev(tree, samples, conjectured);
   // Steps from two tolerances down to a sixteenth of one: RANSAC's fit is already within one.
-  LocalOptOptions options = LocalOptOptions::pattern(40, 4, 0.125);
+  LocalOptOptions options = LocalOptOptions::pattern(sweeps, 4, 0.125);
   options.deadline = deadline;
   options.cancel = cancel;
-  return pattern_search(ev, options, {}, Moves3D{0.5 * evidence.tolerance});
+  return pattern_search(ev, options, std::move(leaf_indices), Moves3D{0.5 * evidence.tolerance});
 }
 
 }  // namespace csgfit

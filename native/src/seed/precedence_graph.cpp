@@ -73,9 +73,7 @@ std::vector<int> components(const PrecedenceGraph& g, int& count) {
   return id;
 }
 
-// Moves an open side of a negative primitive out to the far side of what it cuts (plus a
-// margin), so that the cut goes through and leaves no skin.
-void reach_through(Primitive3D& cut, unsigned open, const Bounds3& target, double margin) {
+void reach_open_sides(Primitive3D& cut, unsigned open, const Bounds3& target, double margin) {
   const Mat3 r = cut.rotation.matrix();
   const Vec3 c{cut.cx, cut.cy, cut.cz};
   for (int axis = 0; axis < 3; ++axis) {
@@ -121,7 +119,8 @@ std::string describe(std::size_t number, const SignedPrimitive& node) {
   };
   std::string kind(to_string(p.kind));
   for (char& c : kind) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  add("Primitive %zu : %s --- %s object\n", number, kind.c_str(), node.positive ? "POSITIVE" : "NEGATIVE");
+  add("Primitive %zu : %s --- %s object%s\n", number, kind.c_str(), node.positive ? "POSITIVE" : "NEGATIVE",
+      node.conjectured ? " (a cut through a seen face's plane)" : "");
   if (p.kind == PrimitiveKind3D::Box) {
     for (int a = 0; a < 3; ++a)
       add("  %c-axis: (%.6f, %.6f, %.6f)  length: %.6f\n", "XYZ"[a], r[0][a], r[1][a], r[2][a], p.dims[a]);
@@ -186,12 +185,29 @@ PrecedenceGraph build_precedence_graph(std::vector<SignedPrimitive> nodes,
     for (const PrecedenceArc& a : g.arcs)
       if (a.to == static_cast<int>(i) && a.kind == ArcKind::Subtracting) targets.push_back(&g.nodes[a.from].primitive);
     if (!targets.empty())
-      reach_through(g.nodes[i].primitive, g.nodes[i].open_sides, bounds_of(targets), 0.02 * size);
+      reach_open_sides(g.nodes[i].primitive, g.nodes[i].open_sides, bounds_of(targets), 0.02 * size);
   }
   return g;
 }
 
-PrecedenceGraph without_node(const PrecedenceGraph& graph, int node) {
+void reach_through(SignedPrimitive& cut, const Bounds3& target, double margin) {
+  if (!cut.positive && cut.open_sides != 0)
+    reach_open_sides(cut.primitive, cut.open_sides, target, margin);
+}
+
+PrecedenceGraph with_node(const PrecedenceGraph& graph, SignedPrimitive node,
+                          const std::vector<PrecedenceArc>& arcs) {
+  PrecedenceGraph g;
+  g.nodes = graph.nodes;
+  g.nodes.push_back(std::move(node));
+  g.arcs = graph.arcs;
+  g.arcs.insert(g.arcs.end(), arcs.begin(), arcs.end());
+  g.order = ranks(g);
+  g.subobject = components(g, g.subobjects);
+  return g;
+}
+
+PrecedenceGraph without_node(const PrecedenceGraph& graph, int node, std::vector<int>* kept) {
   std::vector<char> keep(graph.nodes.size(), 1);
   keep[node] = 0;
   // A cut whose only subtracting arcs came from the removed node cuts nothing any more.
@@ -204,8 +220,13 @@ PrecedenceGraph without_node(const PrecedenceGraph& graph, int node) {
   }
   std::vector<int> index(graph.nodes.size(), -1);
   PrecedenceGraph g;
-  for (std::size_t i = 0; i < graph.nodes.size(); ++i)
-    if (keep[i]) index[i] = static_cast<int>(g.nodes.size()), g.nodes.push_back(graph.nodes[i]);
+  if (kept) kept->clear();
+  for (std::size_t i = 0; i < graph.nodes.size(); ++i) {
+    if (!keep[i]) continue;
+    index[i] = static_cast<int>(g.nodes.size());
+    g.nodes.push_back(graph.nodes[i]);
+    if (kept) kept->push_back(static_cast<int>(i));
+  }
   for (const PrecedenceArc& a : graph.arcs)
     if (index[a.from] >= 0 && index[a.to] >= 0) g.arcs.push_back({index[a.from], index[a.to], a.kind});
   g.order = ranks(g);
@@ -255,6 +276,12 @@ Node3D precedence_tree(const PrecedenceGraph& g, std::vector<int>* leaf_nodes) {
   }
   if (subobjects.empty()) return Node3D{};
   return op_or_leaf(NodeKind::Union, std::move(subobjects));
+}
+
+std::vector<bool> conjectured_leaves(const PrecedenceGraph& graph, const std::vector<int>& leaf_nodes) {
+  std::vector<bool> out;
+  for (int n : leaf_nodes) out.push_back(graph.nodes[n].conjectured);
+  return out;
 }
 
 std::string precedence_report(const PrecedenceGraph& g) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "model/linalg.h"
 
@@ -41,6 +42,28 @@ bool solid_at(const VoxelGrid& g, const Vec3& p) {
   return g.get(i, j, k);
 }
 
+// The halfspace whose boundary is the plane of `face`, on its outer side (`in_front`: what a
+// cut that left the face removed) or behind it, as a box through all of `part`.
+SignedPrimitive halfspace_cut(const SurfacePatch& face, const Bounds3& part, bool in_front) {
+  const Vec3 n = in_front ? face.axis : scale(face.axis, -1);
+  const Vec3 u = normalized(reject(std::abs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}, n));
+  const Vec3 w = cross(n, u);
+  const Vec3 mid = scale(add(part.lo, part.hi), 0.5);
+  const double reach = norm(sub(part.hi, part.lo));  // the part's box diagonal
+  // From the plane out past the part along n, and twice the part across.
+  const double depth = std::max(dot(sub(mid, face.point), n), 0.0) + reach;
+  const Vec3 centre = add(add(face.point, scale(n, depth / 2)),
+                          add(scale(u, dot(sub(mid, face.point), u)), scale(w, dot(sub(mid, face.point), w))));
+  Mat3 m;
+  for (int r = 0; r < 3; ++r) m[r] = {n[r], u[r], w[r]};
+  SignedPrimitive cut;
+  cut.positive = false;
+  cut.conjectured = true;
+  cut.primitive = Primitive3D::box(centre[0], centre[1], centre[2], depth, 2 * reach, 2 * reach,
+                                   quaternion_from_matrix(m));
+  return cut;
+}
+
 }  // namespace
 
 double point_spacing(const std::vector<Vec3>& points) {
@@ -73,11 +96,74 @@ SurfaceReading read_surface(const std::vector<Vec3>& points, const std::vector<V
   out.patches = detect_surfaces(points, normals, detector_for(detect, kinds), seed, cancel);
   // Two patches touch across the band that their edges lose (normals blend there and those
   // points belong to neither): a few point spacings, and no less than 2 % of the part.
-  const double contact = std::max(0.02 * out.diagonal, 6 * point_spacing(points));
-  RecognisedPrimitives rec = recognise_primitives(out.patches, points, out.diagonal, contact);
+  out.contact = std::max(0.02 * out.diagonal, 6 * point_spacing(points));
+  RecognisedPrimitives rec = recognise_primitives(out.patches, points, out.diagonal, out.contact);
   keep_allowed(rec, kinds);
+  out.recognised = rec.primitives;
   out.graph = build_precedence_graph(std::move(rec.primitives), rec.adjacent, rec.patch_points);
   return out;
+}
+
+std::vector<SignedPrimitive> surface_proposals(const SurfaceReading& reading,
+                                               const std::vector<Vec3>& points,
+                                               const PrimitiveSet3D& kinds) {
+  std::vector<SignedPrimitive> pool;
+  add_distinct(pool, reading.recognised, reading.diagonal);
+  if (points.empty() || !kinds.has(PrimitiveKind3D::Box)) return pool;
+  const Bounds3 part = bounds_of(points);
+  std::vector<int> planes;
+  for (std::size_t k = 0; k < reading.patches.size(); ++k)
+    if (reading.patches[k].kind == SurfaceKind::Plane && !reading.patches[k].points.empty())
+      planes.push_back(static_cast<int>(k));
+  // Seed 002's reading of a few faces alone: one face is a slab as deep as the part, two or
+  // three perpendicular neighbours on a convex corner a block.
+  const auto read_alone = [&](std::vector<int> faces) {
+    std::vector<SurfacePatch> subset;
+    for (int k : faces) subset.push_back(reading.patches[k]);
+    add_distinct(pool, recognise_primitives(subset, points, reading.diagonal, reading.contact).primitives,
+                 reading.diagonal);
+  };
+  for (int k : planes) {
+    read_alone({k});
+    std::vector<SignedPrimitive> cuts;
+    for (bool in_front : {true, false}) cuts.push_back(halfspace_cut(reading.patches[k], part, in_front));
+    add_distinct(pool, cuts, reading.diagonal);
+  }
+  const auto adjacent = patch_adjacency(reading.patches, points, reading.contact);
+  const auto corner = [&](int a, int b) {
+    return std::abs(dot(reading.patches[a].axis, reading.patches[b].axis)) < 0.15 &&
+           std::find(adjacent[a].begin(), adjacent[a].end(), b) != adjacent[a].end();
+  };
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    for (std::size_t j = i + 1; j < planes.size(); ++j) {
+      if (!corner(planes[i], planes[j])) continue;
+      read_alone({planes[i], planes[j]});
+      for (std::size_t l = j + 1; l < planes.size(); ++l)
+        if (corner(planes[i], planes[l]) && corner(planes[j], planes[l]))
+          read_alone({planes[i], planes[j], planes[l]});
+    }
+  return pool;
+}
+
+bool alike(const SignedPrimitive& a, const SignedPrimitive& b, double near) {
+  const Primitive3D &p = a.primitive, &q = b.primitive;
+  if (p.kind != q.kind || a.positive != b.positive) return false;
+  if (norm(Vec3{p.cx - q.cx, p.cy - q.cy, p.cz - q.cz}) > near) return false;
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(p.dims[i] - q.dims[i]) > near) return false;
+  const Mat3 r = p.rotation.matrix(), s = q.rotation.matrix();
+  const double reach = std::max({p.dims[0], p.dims[1], p.dims[2], 1e-12});
+  for (int c = 0; c < 3; ++c)
+    if (norm(sub(column(r, c), column(s, c))) * reach > 2 * near) return false;
+  return true;
+}
+
+void add_distinct(std::vector<SignedPrimitive>& pool, const std::vector<SignedPrimitive>& more,
+                  double diagonal) {
+  for (const SignedPrimitive& p : more)
+    if (std::none_of(pool.begin(), pool.end(),
+                     [&](const SignedPrimitive& q) { return alike(p, q, 0.01 * diagonal); }))
+      pool.push_back(p);
 }
 
 void orient_outwards(std::vector<Vec3>& normals, const std::vector<Vec3>& points,

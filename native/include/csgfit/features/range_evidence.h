@@ -14,13 +14,17 @@ namespace csgfit {
 struct RangeEvidence {
   std::vector<Vec3> surface;  ///< seen on the surface
   std::vector<Vec3> empty;    ///< seen to be outside the part
+  /// Points of the part's box that no view sees, behind the surface from every camera (none
+  /// when a scan has no camera): where the primitives' hidden volume is.
+  std::vector<Vec3> hidden;
   double tolerance = 0;       ///< how far a surface point may be from the tree's surface
 };
 
-/// Samples the evidence of `scans` (at most about `max_surface` surface points and twice as
-/// many empty points, spread evenly), with surface tolerance `tolerance`. Scans with a camera
-/// give empty points along their rays (in front of returns, and through the part's box where
-/// nothing returned); scans without one give them along the outward normals.
+/// Samples the evidence of `scans` (at most about `max_surface` surface points, spread evenly),
+/// with surface tolerance `tolerance`. Scans with a camera give empty points along their rays
+/// (in front of returns, every ray that returned nothing near the silhouette, and others through
+/// the part's box as far as `max_surface` allows); scans without one give them along the outward
+/// normals. Hidden points lie on a lattice over the part's box.
 RangeEvidence gather_evidence(const std::vector<RangeScan>& scans, double tolerance,
                               std::size_t max_surface);
 

@@ -217,6 +217,7 @@ ojson graph_to_json(const PrecedenceGraph& g) {
     const std::string where = "precedence_graph.nodes[" + std::to_string(i) + "]";
     nodes.push_back(ojson{{"kind", std::string(to_string(n.primitive.kind))},
                           {"sign", n.positive ? "positive" : "negative"},
+                          {"conjectured", n.conjectured},
                           {"order", g.order[i]},
                           {"subobject", g.subobject[i]},
                           {"dims", {n.primitive.dims[0], n.primitive.dims[1], n.primitive.dims[2]}},

@@ -1,0 +1,157 @@
+// The graph search (seed 002 as generate and test) on scans rendered from known trees: what a
+// reading missed comes back from the candidates, what the views contradict goes, a cut lands
+// only where it helps, and the same input gives the same graph.
+#include <gtest/gtest.h>
+
+#include "csgfit/features/range_evidence.h"
+#include "csgfit/refine/range_refine.h"
+#include "csgfit/search/graph_search.h"
+#include "csgfit/seed/evidence_pockets.h"
+#include "csgfit/seed/surface_candidates.h"
+#include "range_scans.h"
+
+namespace csgfit {
+namespace {
+
+using testing::looking_at;
+using testing::scan_of;
+
+SignedPrimitive signed_node(const Primitive3D& p, bool positive) {
+  SignedPrimitive s;
+  s.primitive = p;
+  s.positive = positive;
+  return s;
+}
+
+PrecedenceGraph graph_of(const std::vector<SignedPrimitive>& positives) {
+  PrecedenceGraph g;
+  for (const SignedPrimitive& p : positives) g = with_node(g, p, {});
+  return g;
+}
+
+RangeEvidence evidence_of(const Node3D& truth) {
+  const RangeScan scan = scan_of(truth, looking_at({0, 0, 0}, 30, 35, 30, 160, 0.08));
+  return gather_evidence({scan}, 0.1, 6000);
+}
+
+GraphSearchOptions options_for(const RangeEvidence& evidence) {
+  GraphSearchOptions o;
+  o.k = evidence_k(evidence);
+  return o;
+}
+
+const Primitive3D kBlock = Primitive3D::box(0, 0, 0, 8, 6, 3);
+const Primitive3D kHole = Primitive3D::cylinder(1, 0.5, 0, 1.2, 5);
+
+TEST(GraphSearch, AddsTheCutTheReadingMissed) {
+  const Node3D truth = Node3D::op(NodeKind::Difference, {Node3D::leaf(kBlock), Node3D::leaf(kHole)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const std::vector<SignedPrimitive> pool = {signed_node(kBlock, true), signed_node(kHole, false),
+                                             signed_node(Primitive3D::sphere(-2, 1, 2, 1), true)};
+  GraphSearchStats stats;
+  const PrecedenceGraph g =
+      search_graph(graph_of({signed_node(kBlock, true)}), pool, evidence, options_for(evidence), &stats);
+  ASSERT_EQ(g.nodes.size(), 2u);
+  EXPECT_FALSE(g.nodes[1].positive);
+  EXPECT_EQ(g.order[1], 2) << "the hole is cut from the block (seed 002's even order)";
+  EXPECT_LT(stats.score_after, stats.score_before);
+  const Node3D tree = precedence_tree(g);
+  EXPECT_FALSE(contains(tree, 1, 0.5, 1.4));
+  EXPECT_TRUE(contains(tree, -3, -2, 1.4));
+}
+
+TEST(GraphSearch, DropsWhatTheViewsContradict) {
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(kBlock));
+  // A ball standing where the sensor saw nothing but empty space.
+  const SignedPrimitive ball = signed_node(Primitive3D::sphere(0, 0, 3, 1.5), true);
+  const PrecedenceGraph g = search_graph(graph_of({signed_node(kBlock, true), ball}), {},
+                                         evidence, options_for(evidence));
+  ASSERT_EQ(g.nodes.size(), 1u);
+  EXPECT_EQ(g.nodes[0].primitive.kind, PrimitiveKind3D::Box);
+}
+
+TEST(GraphSearch, CutsOnlyTheSubobjectsItHelps) {
+  // A low block beside a tall one: the low one is the tall one's twin cut down by a plane; the
+  // same plane cutting the tall one would take away what the sensor saw of it.
+  const Primitive3D low = Primitive3D::box(-3, 0, 0, 4, 4, 4);
+  const Primitive3D tall = Primitive3D::box(3, 0, 0, 4, 4, 4);
+  const Primitive3D above = Primitive3D::box(-3, 0, 6, 8, 8, 10);  // z > 1 over the low block
+  const Node3D truth = Node3D::op(
+      NodeKind::Union, {Node3D::op(NodeKind::Difference, {Node3D::leaf(low), Node3D::leaf(above)}),
+                        Node3D::leaf(tall)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const SignedPrimitive plane_cut = signed_node(Primitive3D::box(0, 0, 8, 30, 30, 14), false);
+  const PrecedenceGraph g = search_graph(
+      graph_of({signed_node(low, true), signed_node(tall, true)}), {plane_cut}, evidence,
+      options_for(evidence));
+  const Node3D tree = precedence_tree(g);
+  EXPECT_EQ(tree.primitive_count(), 3u);
+  EXPECT_FALSE(contains(tree, -3, 0, 1.5)) << "the low block is cut";
+  EXPECT_TRUE(contains(tree, -3, 0, 0.5));
+  EXPECT_TRUE(contains(tree, 3, 0, 1.5)) << "the tall one is whole";
+}
+
+TEST(EvidenceMismatch, AConjecturedCutPaysForTheHiddenMaterialItErases) {
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(kBlock));
+  ASSERT_FALSE(evidence.hidden.empty());
+  // The block hollowed out inside its walls: the view sees the same.
+  const Node3D skin = Node3D::op(NodeKind::Difference,
+                                 {Node3D::leaf(kBlock), Node3D::leaf(Primitive3D::box(0, 0, -0.5, 6, 4, 1.6))});
+  const Mismatch whole = evidence_mismatch(Node3D::leaf(kBlock), evidence);
+  const Mismatch seen_cut = evidence_mismatch(skin, evidence, {false, false});
+  const Mismatch conjectured = evidence_mismatch(skin, evidence, {false, true});
+  EXPECT_LE(seen_cut.uncovered, whole.uncovered + 64) << "a cut its faces show is free in hiding";
+  EXPECT_GT(conjectured.uncovered, seen_cut.uncovered + 64 * 20)
+      << "a conjectured one pays for the hidden block it takes away";
+}
+
+TEST(GraphSearch, SameInputSameGraph) {
+  const Node3D truth = Node3D::op(NodeKind::Difference, {Node3D::leaf(kBlock), Node3D::leaf(kHole)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const std::vector<SignedPrimitive> pool = {signed_node(kHole, false),
+                                             signed_node(Primitive3D::box(2, 2, 2, 1, 1, 1), true)};
+  const auto run = [&] {
+    return precedence_tree(search_graph(graph_of({signed_node(kBlock, true)}), pool, evidence,
+                                        options_for(evidence)));
+  };
+  EXPECT_EQ(run(), run());
+}
+
+TEST(GraphSearch, GraphEditsKeepTheirIndices) {
+  PrecedenceGraph g = graph_of({signed_node(kBlock, true)});
+  g = with_node(g, signed_node(kHole, false), {{0, 1, ArcKind::Subtracting}});
+  g = with_node(g, signed_node(Primitive3D::sphere(1, 0.5, 0, 0.5), true), {{1, 2, ArcKind::Appending}});
+  EXPECT_EQ(g.order, (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(g.subobjects, 1);
+  std::vector<int> kept;
+  const PrecedenceGraph without_block = without_node(g, 0, &kept);
+  // The cut cuts nothing once the block is gone, and goes with it.
+  EXPECT_EQ(kept, (std::vector<int>{2}));
+  ASSERT_EQ(without_block.nodes.size(), 1u);
+  EXPECT_EQ(without_block.nodes[0].primitive.kind, PrimitiveKind3D::Sphere);
+}
+
+TEST(PocketProposals, AnEdgeNotchSeenEmptyBecomesAConjecturedCut) {
+  // A slot down the block's vertical edge on the silhouette: rays pass through where the
+  // block alone would have material.
+  const Primitive3D slot = Primitive3D::box(-4, 3, 0, 2, 2, 4);
+  const Node3D truth = Node3D::op(NodeKind::Difference, {Node3D::leaf(kBlock), Node3D::leaf(slot)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const std::vector<SignedPrimitive> cuts =
+      pocket_proposals(graph_of({signed_node(kBlock, true)}), evidence, 0.3);
+  ASSERT_EQ(cuts.size(), 1u) << "one cluster of empty points inside the block";
+  const SignedPrimitive& cut = cuts[0];
+  EXPECT_FALSE(cut.positive);
+  EXPECT_TRUE(cut.conjectured);
+  EXPECT_TRUE(cut.primitive.contains(-3.5, 2.5, 0)) << "the slot's middle";
+  EXPECT_TRUE(cut.primitive.contains(-3.9, 2.9, 1.45)) << "reaching through the faces it meets";
+  EXPECT_FALSE(cut.primitive.contains(-2, 1, 0)) << "the block's material stays";
+}
+
+TEST(PocketProposals, NoneWhereTheTreeAgreesWithTheViews) {
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(kBlock));
+  EXPECT_TRUE(pocket_proposals(graph_of({signed_node(kBlock, true)}), evidence, 0.3).empty());
+}
+
+}  // namespace
+}  // namespace csgfit
