@@ -7,176 +7,161 @@
 segments = 64; // [12:1:360]
 
 /* [Shared dimensions] */
-// radius of cylinders 5 and 18
-hole_r = 0.4313; // [0:0.1:200]
-// radius of cylinders 9 and 10
-cyl_r = 0.9843; // [0:0.1:200]
-// height of cylinders 9 and 10
-cyl_h = 1.7391; // [0:0.1:200]
+// radius of cylinders 3 and 8
+cyl_r = 1.0211; // [0:0.01:20]
+// radius of cylinders 7 and 9
+cyl_r2 = 0.7856; // [0:0.01:20]
+// radius of cylinders 15 and 16
+hole_r = 0.4281; // [0:0.01:20]
+// height of cylinders 3 and 8
+cyl_h = 1.7391; // [0:0.01:20]
+// height of cylinders 7 and 16
+cyl_h2 = 2.2981; // [0:0.01:20]
 
 /* [Box 1] */
-box_1_cx = 0; // [-200:0.1:200]
-box_1_cy = -0.5714; // [-200:0.1:200]
-box_1_cz = 0.0497; // [-200:0.1:200]
-box_1_rot_y = -90; // [-180:0.1:180]
-box_1_size_x = 3.0435; // [0:0.1:200]
-box_1_size_y = 8.4348; // [0:0.1:200]
-box_1_size_z = 8.8075; // [0:0.1:200]
+box_1_cx = -0.0113; // [-20:0.01:20]
+box_1_cy = -0.5628; // [-20:0.01:20]
+box_1_cz = 0.0034; // [-20:0.01:20]
+box_1_rot_x = -174.703739; // [-180:0.1:180]
+box_1_rot_y = 88.217196; // [-180:0.1:180]
+box_1_rot_z = -84.724796; // [-180:0.1:180]
+box_1_size_x = 3.1388; // [0:0.01:20]
+box_1_size_y = 8.8285; // [0:0.01:20]
+box_1_size_z = 8.4246; // [0:0.01:20]
 
-/* [Prism 2] */
-prism_2_cx = -0.0255; // [-200:0.1:200]
-prism_2_cy = 0.6358; // [-200:0.1:200]
-prism_2_cz = 2.5673; // [-200:0.1:200]
-prism_2_rot_x = 44.294351; // [-180:0.1:180]
-prism_2_rot_y = -89.261227; // [-180:0.1:180]
-prism_2_rot_z = 45.520649; // [-180:0.1:180]
-prism_2_w = 81.5492; // [0:0.1:200]
-prism_2_h = 7.3266; // [0:0.1:200]
-prism_2_depth = 10.0321; // [0:0.1:200]
-prism_2_apex = -0.057145; // [-4:0.01:4]
+/* [Cone 2] */
+cone_2_cx = -0.0001; // [-20:0.01:20]
+cone_2_cy = -0.7081; // [-20:0.01:20]
+cone_2_cz = 0.2778; // [-20:0.01:20]
+cone_2_rot_x = -90; // [-180:0.1:180]
+cone_2_r1 = 3.6735; // [0:0.01:20]
+cone_2_r2 = 3.6778; // [0:0.01:20]
+cone_2_h = 7.3665; // [0:0.01:20]
 
 /* [Cylinder 3] */
-cyl_3_cx = -3.105; // [-200:0.1:200]
-cyl_3_cy = -1.1401; // [-200:0.1:200]
-cyl_3_cz = -0.9831; // [-200:0.1:200]
-cyl_3_rot_x = 0.535348; // [-180:0.1:180]
-cyl_3_rot_y = 167.766338; // [-180:0.1:180]
-cyl_3_r = 0.2175; // [0:0.1:200]
-cyl_3_h = 6.2681; // [0:0.1:200]
+cyl_3_cx = 3.6216; // [-20:0.01:20]
+cyl_3_cy = -0.7387; // [-20:0.01:20]
+cyl_3_cz = -1.0994; // [-20:0.01:20]
 
-/* [Cylinder 4] */
-cyl_4_cx = 0.0227; // [-200:0.1:200]
-cyl_4_cy = -0.0999; // [-200:0.1:200]
-cyl_4_cz = 1.5691; // [-200:0.1:200]
-cyl_4_rot_x = 90; // [-180:0.1:180]
-cyl_4_r = 2.7469; // [0:0.1:200]
-cyl_4_h = 9.7774; // [0:0.1:200]
+/* [Prism 4] */
+prism_4_cx = 0.0177; // [-20:0.01:20]
+prism_4_cy = -2.2917; // [-20:0.01:20]
+prism_4_cz = -1.8624; // [-20:0.01:20]
+prism_4_rot_x = -90.808986; // [-180:0.1:180]
+prism_4_rot_y = 81.376881; // [-180:0.1:180]
+prism_4_rot_z = -90.777893; // [-180:0.1:180]
+prism_4_w = 0.8607; // [0:0.01:20]
+prism_4_h = 4.938; // [0:0.01:20]
+prism_4_depth = 7.4481; // [0:0.01:20]
+prism_4_apex = -1.09274; // [-4:0.01:4]
 
-/* [Cylinder 5] */
-cyl_5_cx = -3.6035; // [-200:0.1:200]
-cyl_5_cy = -0.7015; // [-200:0.1:200]
-cyl_5_cz = 0.5045; // [-200:0.1:200]
-cyl_5_rot_y = 180; // [-180:0.1:180]
-cyl_5_h = 2.4624; // [0:0.1:200]
+/* [Prism 5] */
+prism_5_cx = 3.2202; // [-20:0.01:20]
+prism_5_cy = 1.5863; // [-20:0.01:20]
+prism_5_cz = -1.2928; // [-20:0.01:20]
+prism_5_rot_x = 89.471965; // [-180:0.1:180]
+prism_5_rot_y = 11.612247; // [-180:0.1:180]
+prism_5_rot_z = 177.752671; // [-180:0.1:180]
+prism_5_w = 0.9733; // [0:0.01:20]
+prism_5_h = 1.3464; // [0:0.01:20]
+prism_5_depth = 3.9084; // [0:0.01:20]
+prism_5_apex = 0.735714; // [-4:0.01:4]
 
-/* [Box 6] */
-box_6_cx = 0; // [-200:0.1:200]
-box_6_cy = -3.0664; // [-200:0.1:200]
-box_6_cz = -1.5342; // [-200:0.1:200]
-box_6_rot_y = -90; // [-180:0.1:180]
-box_6_size_x = 0.8696; // [0:0.1:200]
-box_6_size_y = 3.4449; // [0:0.1:200]
-box_6_size_z = 7.4161; // [0:0.1:200]
+/* [Cone 6] */
+cone_6_cx = -3.2222; // [-20:0.01:20]
+cone_6_cy = -0.214; // [-20:0.01:20]
+cone_6_cz = -1.5492; // [-20:0.01:20]
+cone_6_rot_x = 90; // [-180:0.1:180]
+cone_6_r1 = 0.4686; // [0:0.01:20]
+cone_6_r2 = 0.5071; // [0:0.01:20]
+cone_6_h = 6.3784; // [0:0.01:20]
 
-/* [Cone 7] */
-cone_7_cx = 3.2497; // [-200:0.1:200]
-cone_7_cy = 1.8276; // [-200:0.1:200]
-cone_7_cz = -1.5254; // [-200:0.1:200]
-cone_7_rot_x = 90; // [-180:0.1:180]
-cone_7_r1 = 0.5075; // [0:0.1:200]
-cone_7_r2 = 0.4739; // [0:0.1:200]
-cone_7_h = 3.6366; // [0:0.1:200]
+/* [Cylinder 7] */
+cyl_7_cx = 3.6216; // [-20:0.01:20]
+cyl_7_cy = -0.7387; // [-20:0.01:20]
+cyl_7_cz = 0.4224; // [-20:0.01:20]
+cyl_7_rot_y = 180; // [-180:0.1:180]
 
-/* [Box 8] */
-box_8_cx = -3.2627; // [-200:0.1:200]
-box_8_cy = 0.5475; // [-200:0.1:200]
-box_8_cz = -1.5289; // [-200:0.1:200]
-box_8_rot_x = 90.429878; // [-180:0.1:180]
-box_8_rot_y = 11.574122; // [-180:0.1:180]
-box_8_rot_z = -2.020889; // [-180:0.1:180]
-box_8_size_x = 0.8569; // [0:0.1:200]
-box_8_size_y = 0.8784; // [0:0.1:200]
-box_8_size_z = 6.1932; // [0:0.1:200]
+/* [Cylinder 8] */
+cyl_8_cx = -3.6185; // [-20:0.01:20]
+cyl_8_cy = -0.7043; // [-20:0.01:20]
+cyl_8_cz = -1.0994; // [-20:0.01:20]
 
 /* [Cylinder 9] */
-cyl_9_cx = 3.5879; // [-200:0.1:200]
-cyl_9_cy = -0.7063; // [-200:0.1:200]
-cyl_9_cz = -1.0994; // [-200:0.1:200]
+cyl_9_cx = -3.6764; // [-20:0.01:20]
+cyl_9_cy = -0.7021; // [-20:0.01:20]
+cyl_9_cz = 0.5012; // [-20:0.01:20]
+cyl_9_rot_x = -4.165042; // [-180:0.1:180]
+cyl_9_rot_y = 175.985443; // [-180:0.1:180]
+cyl_9_h = 2.0943; // [0:0.01:20]
 
-/* [Cylinder 10] */
-cyl_10_cx = -3.6035; // [-200:0.1:200]
-cyl_10_cy = -0.7015; // [-200:0.1:200]
-cyl_10_cz = -1.0994; // [-200:0.1:200]
+/* [Box 10] */
+box_10_cx = 0.0032; // [-20:0.01:20]
+box_10_cy = 3.8745; // [-20:0.01:20]
+box_10_cz = -0.2356; // [-20:0.01:20]
+box_10_rot_x = -1.089496; // [-180:0.1:180]
+box_10_rot_y = 16.582417; // [-180:0.1:180]
+box_10_rot_z = -88.584669; // [-180:0.1:180]
+box_10_size_x = 1.4553; // [0:0.01:20]
+box_10_size_y = 2.3629; // [0:0.01:20]
+box_10_size_z = 0.8044; // [0:0.01:20]
 
-/* [Cylinder 11] */
-cyl_11_cx = 3.7579; // [-200:0.1:200]
-cyl_11_cy = -0.7087; // [-200:0.1:200]
-cyl_11_cz = 0.7306; // [-200:0.1:200]
-cyl_11_rot_x = -0.645257; // [-180:0.1:180]
-cyl_11_rot_y = 4.894849; // [-180:0.1:180]
-cyl_11_r = 0.9104; // [0:0.1:200]
-cyl_11_h = 1.7125; // [0:0.1:200]
+/* [Ellipsoid 11] */
+ellipsoid_11_cx = 1.6276; // [-20:0.01:20]
+ellipsoid_11_cy = 3.9403; // [-20:0.01:20]
+ellipsoid_11_cz = 0.6332; // [-20:0.01:20]
+ellipsoid_11_rot_x = 51.514754; // [-180:0.1:180]
+ellipsoid_11_rot_y = 26.340035; // [-180:0.1:180]
+ellipsoid_11_rot_z = -90.158969; // [-180:0.1:180]
+ellipsoid_11_rx = 0.8779; // [0:0.01:20]
+ellipsoid_11_ry = 1.2068; // [0:0.01:20]
+ellipsoid_11_rz = 0.3854; // [0:0.01:20]
 
-/* [Box 12] */
-box_12_cx = 0.1116; // [-200:0.1:200]
-box_12_cy = 3.3106; // [-200:0.1:200]
-box_12_cz = -0.2774; // [-200:0.1:200]
-box_12_rot_x = 90; // [-180:0.1:180]
-box_12_size_x = 7.6394; // [0:0.1:200]
-box_12_size_y = 3.3831; // [0:0.1:200]
-box_12_size_z = 0.6708; // [0:0.1:200]
+/* [Ellipsoid 12] */
+ellipsoid_12_cx = -1.8069; // [-20:0.01:20]
+ellipsoid_12_cy = 3.7858; // [-20:0.01:20]
+ellipsoid_12_cz = 0.6715; // [-20:0.01:20]
+ellipsoid_12_rot_x = -71.607273; // [-180:0.1:180]
+ellipsoid_12_rot_y = -66.849453; // [-180:0.1:180]
+ellipsoid_12_rot_z = 130.186081; // [-180:0.1:180]
+ellipsoid_12_rx = 1.1872; // [0:0.01:20]
+ellipsoid_12_ry = 0.4263; // [0:0.01:20]
+ellipsoid_12_rz = 1.2429; // [0:0.01:20]
 
-/* [Prism 13] */
-prism_13_cx = 2.1105; // [-200:0.1:200]
-prism_13_cy = 3.9822; // [-200:0.1:200]
-prism_13_cz = 0.968; // [-200:0.1:200]
-prism_13_rot_x = 38.579662; // [-180:0.1:180]
-prism_13_rot_y = 17.746805; // [-180:0.1:180]
-prism_13_rot_z = -91.037338; // [-180:0.1:180]
-prism_13_w = 1.5107; // [0:0.1:200]
-prism_13_h = 4.4997; // [0:0.1:200]
-prism_13_depth = 0.7717; // [0:0.1:200]
-prism_13_apex = 0.926052; // [-4:0.01:4]
+/* [Box 13] */
+box_13_cx = -4.1073; // [-20:0.01:20]
+box_13_cy = -0.6347; // [-20:0.01:20]
+box_13_cz = -2.0093; // [-20:0.01:20]
+box_13_rot_x = -90.137364; // [-180:0.1:180]
+box_13_rot_y = 0.642237; // [-180:0.1:180]
+box_13_rot_z = -108.532367; // [-180:0.1:180]
+box_13_size_x = 1.5867; // [0:0.01:20]
+box_13_size_y = 2.5618; // [0:0.01:20]
+box_13_size_z = 2.4329; // [0:0.01:20]
 
-/* [Ellipsoid 14] */
-ellipsoid_14_cx = -1.6495; // [-200:0.1:200]
-ellipsoid_14_cy = 3.6985; // [-200:0.1:200]
-ellipsoid_14_cz = 0.5583; // [-200:0.1:200]
-ellipsoid_14_rot_x = 56.67234; // [-180:0.1:180]
-ellipsoid_14_rot_y = -44.739358; // [-180:0.1:180]
-ellipsoid_14_rot_z = 61.146732; // [-180:0.1:180]
-ellipsoid_14_rx = 0.9038; // [0:0.1:200]
-ellipsoid_14_ry = 1.8247; // [0:0.1:200]
-ellipsoid_14_rz = 0.4332; // [0:0.1:200]
+/* [Box 14] */
+box_14_cx = 3.7836; // [-20:0.01:20]
+box_14_cy = -0.6692; // [-20:0.01:20]
+box_14_cz = -1.5475; // [-20:0.01:20]
+box_14_rot_x = 179.672506; // [-180:0.1:180]
+box_14_rot_y = -0.140356; // [-180:0.1:180]
+box_14_rot_z = -5.640186; // [-180:0.1:180]
+box_14_size_x = 1.6961; // [0:0.01:20]
+box_14_size_y = 1.5208; // [0:0.01:20]
+box_14_size_z = 1.6363; // [0:0.01:20]
 
-/* [Ellipsoid 15] */
-ellipsoid_15_cx = -6.0985; // [-200:0.1:200]
-ellipsoid_15_cy = -0.6494; // [-200:0.1:200]
-ellipsoid_15_cz = -4.5594; // [-200:0.1:200]
-ellipsoid_15_rot_x = -176.988643; // [-180:0.1:180]
-ellipsoid_15_rot_y = 53.487646; // [-180:0.1:180]
-ellipsoid_15_rot_z = 178.587432; // [-180:0.1:180]
-ellipsoid_15_rx = 5.0532; // [0:0.1:200]
-ellipsoid_15_ry = 1.4572; // [0:0.1:200]
-ellipsoid_15_rz = 1.6193; // [0:0.1:200]
+/* [Cylinder 15] */
+cyl_15_cx = 3.6216; // [-20:0.01:20]
+cyl_15_cy = -0.7387; // [-20:0.01:20]
+cyl_15_cz = -0.3811; // [-20:0.01:20]
+cyl_15_rot_y = 180; // [-180:0.1:180]
+cyl_15_h = 3.9051; // [0:0.01:20]
 
 /* [Cylinder 16] */
-cyl_16_cx = 3.7259; // [-200:0.1:200]
-cyl_16_cy = -0.6774; // [-200:0.1:200]
-cyl_16_cz = -2.2847; // [-200:0.1:200]
-cyl_16_rot_x = 0.094403; // [-180:0.1:180]
-cyl_16_rot_y = -173.270025; // [-180:0.1:180]
-cyl_16_r = 0.9527; // [0:0.1:200]
-cyl_16_h = 3.1112; // [0:0.1:200]
-
-/* [Prism 17] */
-prism_17_cx = 0.0062; // [-200:0.1:200]
-prism_17_cy = -1.1437; // [-200:0.1:200]
-prism_17_cz = 0.133; // [-200:0.1:200]
-prism_17_rot_x = 90.193954; // [-180:0.1:180]
-prism_17_rot_y = 3.784829; // [-180:0.1:180]
-prism_17_rot_z = 90.002706; // [-180:0.1:180]
-prism_17_w = 2.814; // [0:0.1:200]
-prism_17_h = 14.7283; // [0:0.1:200]
-prism_17_depth = 5.5657; // [0:0.1:200]
-prism_17_apex = -1.515343; // [-4:0.01:4]
-
-/* [Cylinder 18] */
-cyl_18_cx = 3.5879; // [-200:0.1:200]
-cyl_18_cy = -0.7063; // [-200:0.1:200]
-cyl_18_cz = -0.3411; // [-200:0.1:200]
-cyl_18_rot_y = 180; // [-180:0.1:180]
-cyl_18_h = 3.8251; // [0:0.1:200]
+cyl_16_cx = -3.6185; // [-20:0.01:20]
+cyl_16_cy = -0.7043; // [-20:0.01:20]
+cyl_16_cz = 0.4224; // [-20:0.01:20]
+cyl_16_rot_y = 180; // [-180:0.1:180]
 
 /* [Hidden] */
 $fn = segments;
@@ -199,30 +184,24 @@ module csg_high_res() {
   difference() {
     union() {
       difference() {
-        union() {
-          difference() {
-            translate([box_1_cx, box_1_cy, box_1_cz]) rotate([0, box_1_rot_y, 0]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-            translate([prism_2_cx, prism_2_cy, prism_2_cz]) rotate([prism_2_rot_x, prism_2_rot_y, prism_2_rot_z]) linear_extrude(height = prism_2_depth, center = true) polygon([[-prism_2_w / 2, -prism_2_h / 2], [prism_2_w / 2, -prism_2_h / 2], [prism_2_apex * prism_2_w / 2, prism_2_h / 2]]);
-          }
-          translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) rotate([cyl_3_rot_x, cyl_3_rot_y, 0]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
-        }
-        translate([cyl_4_cx, cyl_4_cy, cyl_4_cz]) rotate([cyl_4_rot_x, 0, 0]) cylinder(h = cyl_4_h, r = fn_r(cyl_4_r), center = true);
-        translate([cyl_5_cx, cyl_5_cy, cyl_5_cz]) rotate([0, cyl_5_rot_y, 0]) cylinder(h = cyl_5_h, r = fn_r(hole_r), center = true);
+        translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, box_1_rot_y, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
+        translate([cone_2_cx, cone_2_cy, cone_2_cz]) rotate([cone_2_rot_x, 0, 0]) cylinder(h = cone_2_h, r1 = fn_r(cone_2_r1), r2 = fn_r(cone_2_r2), center = true);
       }
-      translate([box_6_cx, box_6_cy, box_6_cz]) rotate([0, box_6_rot_y, 0]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
-      translate([cone_7_cx, cone_7_cy, cone_7_cz]) rotate([cone_7_rot_x, 0, 0]) cylinder(h = cone_7_h, r1 = fn_r(cone_7_r1), r2 = fn_r(cone_7_r2), center = true);
-      translate([box_8_cx, box_8_cy, box_8_cz]) rotate([box_8_rot_x, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
-      translate([cyl_9_cx, cyl_9_cy, cyl_9_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
-      translate([cyl_10_cx, cyl_10_cy, cyl_10_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
-      translate([cyl_11_cx, cyl_11_cy, cyl_11_cz]) rotate([cyl_11_rot_x, cyl_11_rot_y, 0]) cylinder(h = cyl_11_h, r = fn_r(cyl_11_r), center = true);
-      translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, 0, 0]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
-      translate([prism_13_cx, prism_13_cy, prism_13_cz]) rotate([prism_13_rot_x, prism_13_rot_y, prism_13_rot_z]) linear_extrude(height = prism_13_depth, center = true) polygon([[-prism_13_w / 2, -prism_13_h / 2], [prism_13_w / 2, -prism_13_h / 2], [prism_13_apex * prism_13_w / 2, prism_13_h / 2]]);
-      translate([ellipsoid_14_cx, ellipsoid_14_cy, ellipsoid_14_cz]) rotate([ellipsoid_14_rot_x, ellipsoid_14_rot_y, ellipsoid_14_rot_z]) scale([ellipsoid_14_rx, ellipsoid_14_ry, ellipsoid_14_rz]) sphere(r = fn_sr(1));
+      translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
+      translate([prism_4_cx, prism_4_cy, prism_4_cz]) rotate([prism_4_rot_x, prism_4_rot_y, prism_4_rot_z]) linear_extrude(height = prism_4_depth, center = true) polygon([[-prism_4_w / 2, -prism_4_h / 2], [prism_4_w / 2, -prism_4_h / 2], [prism_4_apex * prism_4_w / 2, prism_4_h / 2]]);
+      translate([prism_5_cx, prism_5_cy, prism_5_cz]) rotate([prism_5_rot_x, prism_5_rot_y, prism_5_rot_z]) linear_extrude(height = prism_5_depth, center = true) polygon([[-prism_5_w / 2, -prism_5_h / 2], [prism_5_w / 2, -prism_5_h / 2], [prism_5_apex * prism_5_w / 2, prism_5_h / 2]]);
+      translate([cone_6_cx, cone_6_cy, cone_6_cz]) rotate([cone_6_rot_x, 0, 0]) cylinder(h = cone_6_h, r1 = fn_r(cone_6_r1), r2 = fn_r(cone_6_r2), center = true);
+      translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([0, cyl_7_rot_y, 0]) cylinder(h = cyl_h2, r = fn_r(cyl_r2), center = true);
+      translate([cyl_8_cx, cyl_8_cy, cyl_8_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
+      translate([cyl_9_cx, cyl_9_cy, cyl_9_cz]) rotate([cyl_9_rot_x, cyl_9_rot_y, 0]) cylinder(h = cyl_9_h, r = fn_r(cyl_r2), center = true);
+      translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
+      translate([ellipsoid_11_cx, ellipsoid_11_cy, ellipsoid_11_cz]) rotate([ellipsoid_11_rot_x, ellipsoid_11_rot_y, ellipsoid_11_rot_z]) scale([ellipsoid_11_rx, ellipsoid_11_ry, ellipsoid_11_rz]) sphere(r = fn_sr(1));
+      translate([ellipsoid_12_cx, ellipsoid_12_cy, ellipsoid_12_cz]) rotate([ellipsoid_12_rot_x, ellipsoid_12_rot_y, ellipsoid_12_rot_z]) scale([ellipsoid_12_rx, ellipsoid_12_ry, ellipsoid_12_rz]) sphere(r = fn_sr(1));
     }
-    translate([ellipsoid_15_cx, ellipsoid_15_cy, ellipsoid_15_cz]) rotate([ellipsoid_15_rot_x, ellipsoid_15_rot_y, ellipsoid_15_rot_z]) scale([ellipsoid_15_rx, ellipsoid_15_ry, ellipsoid_15_rz]) sphere(r = fn_sr(1));
-    translate([cyl_16_cx, cyl_16_cy, cyl_16_cz]) rotate([cyl_16_rot_x, cyl_16_rot_y, 0]) cylinder(h = cyl_16_h, r = fn_r(cyl_16_r), center = true);
-    translate([prism_17_cx, prism_17_cy, prism_17_cz]) rotate([prism_17_rot_x, prism_17_rot_y, prism_17_rot_z]) linear_extrude(height = prism_17_depth, center = true) polygon([[-prism_17_w / 2, -prism_17_h / 2], [prism_17_w / 2, -prism_17_h / 2], [prism_17_apex * prism_17_w / 2, prism_17_h / 2]]);
-    translate([cyl_18_cx, cyl_18_cy, cyl_18_cz]) rotate([0, cyl_18_rot_y, 0]) cylinder(h = cyl_18_h, r = fn_r(hole_r), center = true);
+    translate([box_13_cx, box_13_cy, box_13_cz]) rotate([box_13_rot_x, box_13_rot_y, box_13_rot_z]) cube([box_13_size_x, box_13_size_y, box_13_size_z], center = true);
+    translate([box_14_cx, box_14_cy, box_14_cz]) rotate([box_14_rot_x, box_14_rot_y, box_14_rot_z]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);
+    translate([cyl_15_cx, cyl_15_cy, cyl_15_cz]) rotate([0, cyl_15_rot_y, 0]) cylinder(h = cyl_15_h, r = fn_r(hole_r), center = true);
+    translate([cyl_16_cx, cyl_16_cy, cyl_16_cz]) rotate([0, cyl_16_rot_y, 0]) cylinder(h = cyl_h2, r = fn_r(hole_r), center = true);
   }
 }
 

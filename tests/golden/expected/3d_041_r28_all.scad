@@ -62,11 +62,14 @@ box_6_size_y = 2.381; // [0:0.01:50]
 box_6_size_z = 5; // [0:0.01:50]
 
 /* [Box 7] */
-box_7_cx = -1.587; // [-50:0.01:50]
+box_7_cx = -1.7681; // [-50:0.01:50]
 box_7_cy = 0; // [-50:0.01:50]
 box_7_cz = 2.1429; // [-50:0.01:50]
-box_7_size_x = 2.7545; // [0:0.01:50]
-box_7_size_y = 2.381; // [0:0.01:50]
+box_7_rot_x = -0.175222; // [-180:0.1:180]
+box_7_rot_y = -3.36943; // [-180:0.1:180]
+box_7_rot_z = 3.330842; // [-180:0.1:180]
+box_7_size_x = 2.7595; // [0:0.01:50]
+box_7_size_y = 2.5; // [0:0.01:50]
 box_7_size_z = 5.3571; // [0:0.01:50]
 
 /* [Box 8] */
@@ -80,14 +83,11 @@ box_8_size_y = 2.504; // [0:0.01:50]
 box_8_size_z = 1.5476; // [0:0.01:50]
 
 /* [Box 9] */
-box_9_cx = 1.4423; // [-50:0.01:50]
-box_9_cy = 0.1786; // [-50:0.01:50]
+box_9_cx = 1.2942; // [-50:0.01:50]
+box_9_cy = 0; // [-50:0.01:50]
 box_9_cz = 1.607; // [-50:0.01:50]
-box_9_rot_x = -0.004657; // [-180:0.1:180]
-box_9_rot_y = -0.009838; // [-180:0.1:180]
-box_9_rot_z = 0.419826; // [-180:0.1:180]
-box_9_size_x = 3.2794; // [0:0.01:50]
-box_9_size_y = 2.5; // [0:0.01:50]
+box_9_size_x = 3.3402; // [0:0.01:50]
+box_9_size_y = 2.381; // [0:0.01:50]
 box_9_size_z = 3.2146; // [0:0.01:50]
 
 /* [Box 10] */
@@ -151,15 +151,15 @@ box_15_size_z = 1.5476; // [0:0.01:50]
 
 /* [Prism 16] */
 prism_16_cx = 2.6303; // [-50:0.01:50]
-prism_16_cy = -0.8181; // [-50:0.01:50]
+prism_16_cy = -0.818; // [-50:0.01:50]
 prism_16_cz = -2.9423; // [-50:0.01:50]
-prism_16_rot_x = 179.134076; // [-180:0.1:180]
-prism_16_rot_y = -1.36012; // [-180:0.1:180]
-prism_16_rot_z = 45.322148; // [-180:0.1:180]
-prism_16_w = 2.5263; // [0:0.01:50]
+prism_16_rot_x = 179.134077; // [-180:0.1:180]
+prism_16_rot_y = -1.359358; // [-180:0.1:180]
+prism_16_rot_z = 45.322137; // [-180:0.1:180]
+prism_16_w = 2.5299; // [0:0.01:50]
 prism_16_h = 1.2043; // [0:0.01:50]
 prism_16_depth = 1.1782; // [0:0.01:50]
-prism_16_apex = 0.257852; // [-4:0.01:4]
+prism_16_apex = 0.260684; // [-4:0.01:4]
 
 /* [Box 17] */
 box_17_cx = -0.9731; // [-50:0.01:50]
@@ -173,16 +173,16 @@ box_17_size_y = 1.9236; // [0:0.01:50]
 box_17_size_z = 6.6828; // [0:0.01:50]
 
 /* [Prism 18] */
-prism_18_cx = 2.6378; // [-50:0.01:50]
-prism_18_cy = -0.8126; // [-50:0.01:50]
-prism_18_cz = 3.2181; // [-50:0.01:50]
-prism_18_rot_x = 179.536073; // [-180:0.1:180]
-prism_18_rot_y = -0.201304; // [-180:0.1:180]
-prism_18_rot_z = 45.124551; // [-180:0.1:180]
-prism_18_w = 3.3012; // [0:0.01:50]
-prism_18_h = 1.206; // [0:0.01:50]
-prism_18_depth = 1.1913; // [0:0.01:50]
-prism_18_apex = 0.747732; // [-4:0.01:4]
+prism_18_cx = 2.6372; // [-50:0.01:50]
+prism_18_cy = -0.8078; // [-50:0.01:50]
+prism_18_cz = 2.8558; // [-50:0.01:50]
+prism_18_rot_x = 167.815416; // [-180:0.1:180]
+prism_18_rot_y = -1.39452; // [-180:0.1:180]
+prism_18_rot_z = 45.134735; // [-180:0.1:180]
+prism_18_w = 3.0646; // [0:0.01:50]
+prism_18_h = 1.1983; // [0:0.01:50]
+prism_18_depth = 1.165; // [0:0.01:50]
+prism_18_apex = -0.102874; // [-4:0.01:4]
 
 /* [Box 19] */
 box_19_cx = -2.8571; // [-50:0.01:50]
@@ -195,8 +195,8 @@ box_19_size_z = 0.2143; // [0:0.01:50]
 
 /* [Cylinder 20] */
 cyl_20_cx = 0.3454; // [-50:0.01:50]
-cyl_20_cy = 0.7862; // [-50:0.01:50]
-cyl_20_cz = 0.0001; // [-50:0.01:50]
+cyl_20_cy = 0.7731; // [-50:0.01:50]
+cyl_20_cz = 0.0002; // [-50:0.01:50]
 cyl_20_rot_x = -90; // [-180:0.1:180]
 cyl_20_r = 1.3688; // [0:0.01:50]
 cyl_20_h = 6.4874; // [0:0.01:50]
@@ -232,11 +232,11 @@ module csg_high_res() {
     difference() {
       translate([box_6_cx, box_6_cy, box_6_cz]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
       difference() {
-        translate([box_7_cx, box_7_cy, box_7_cz]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
+        translate([box_7_cx, box_7_cy, box_7_cz]) rotate([box_7_rot_x, box_7_rot_y, box_7_rot_z]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
         translate([box_8_cx, box_8_cy, box_8_cz]) rotate([0, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
       }
       difference() {
-        translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, box_9_rot_y, box_9_rot_z]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
+        translate([box_9_cx, box_9_cy, box_9_cz]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
         difference() {
           translate([box_10_cx, box_10_cy, box_10_cz]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
           translate([box_11_cx, box_11_cy, box_11_cz]) rotate([box_11_rot_x, box_11_rot_y, 0]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);

@@ -9,6 +9,8 @@ segments = 64; // [12:1:360]
 /* [Shared dimensions] */
 // radius of cylinders 13 and 14
 hole_r = 0.5122; // [0:0.01:50]
+// height of cylinders 6 and 7
+cyl_h = 1.8919; // [0:0.01:50]
 
 /* [Box 1] */
 box_1_cx = -0.0002; // [-50:0.01:50]
@@ -25,19 +27,19 @@ cone_2_cx = -5.2002; // [-50:0.01:50]
 cone_2_cy = 1.0745; // [-50:0.01:50]
 cone_2_cz = -1.7428; // [-50:0.01:50]
 cone_2_rot_x = 30.879383; // [-180:0.1:180]
-cone_2_rot_y = -175.789501; // [-180:0.1:180]
+cone_2_rot_y = -175.789502; // [-180:0.1:180]
 cone_2_r1 = 3.0618; // [0:0.01:50]
 cone_2_r2 = 1.9765; // [0:0.01:50]
 cone_2_h = 3.8202; // [0:0.01:50]
 
 /* [Torus 3] */
-torus_3_cx = 4.753; // [-50:0.01:50]
-torus_3_cy = 0.4758; // [-50:0.01:50]
+torus_3_cx = 4.7528; // [-50:0.01:50]
+torus_3_cy = 0.4756; // [-50:0.01:50]
 torus_3_cz = -1.8982; // [-50:0.01:50]
-torus_3_rot_x = 26.280017; // [-180:0.1:180]
-torus_3_rot_y = -84.856077; // [-180:0.1:180]
-torus_3_major_r = 1.6323; // [0:0.01:50]
-torus_3_minor_r = 1.6323; // [0:0.01:50]
+torus_3_rot_x = 26.27754; // [-180:0.1:180]
+torus_3_rot_y = -84.853572; // [-180:0.1:180]
+torus_3_major_r = 1.6325; // [0:0.01:50]
+torus_3_minor_r = 1.6325; // [0:0.01:50]
 
 /* [Box 4] */
 box_4_cx = -0.3898; // [-50:0.01:50]
@@ -66,7 +68,6 @@ cyl_6_cy = 0.0676; // [-50:0.01:50]
 cyl_6_cz = -1.2025; // [-50:0.01:50]
 cyl_6_rot_x = -90; // [-180:0.1:180]
 cyl_6_r = 0.7469; // [0:0.01:50]
-cyl_6_h = 1.8919; // [0:0.01:50]
 
 /* [Cylinder 7] */
 cyl_7_cx = 2.1284; // [-50:0.01:50]
@@ -74,7 +75,6 @@ cyl_7_cy = 0.0676; // [-50:0.01:50]
 cyl_7_cz = -1.1698; // [-50:0.01:50]
 cyl_7_rot_x = -90; // [-180:0.1:180]
 cyl_7_r = 0.7181; // [0:0.01:50]
-cyl_7_h = 1.8919; // [0:0.01:50]
 
 /* [Box 8] */
 box_8_cx = -2.9885; // [-50:0.01:50]
@@ -164,8 +164,8 @@ module csg_high_res() {
         translate([box_4_cx, box_4_cy, box_4_cz]) rotate([box_4_rot_x, box_4_rot_y, box_4_rot_z]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
         translate([box_5_cx, box_5_cy, box_5_cz]) rotate([box_5_rot_x, 0, box_5_rot_z]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
       }
-      translate([cyl_6_cx, cyl_6_cy, cyl_6_cz]) rotate([cyl_6_rot_x, 0, 0]) cylinder(h = cyl_6_h, r = fn_r(cyl_6_r), center = true);
-      translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([cyl_7_rot_x, 0, 0]) cylinder(h = cyl_7_h, r = fn_r(cyl_7_r), center = true);
+      translate([cyl_6_cx, cyl_6_cy, cyl_6_cz]) rotate([cyl_6_rot_x, 0, 0]) cylinder(h = cyl_h, r = fn_r(cyl_6_r), center = true);
+      translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([cyl_7_rot_x, 0, 0]) cylinder(h = cyl_h, r = fn_r(cyl_7_r), center = true);
       translate([box_8_cx, box_8_cy, box_8_cz]) rotate([box_8_rot_x, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
       translate([cone_9_cx, cone_9_cy, cone_9_cz]) rotate([cone_9_rot_x, cone_9_rot_y, 0]) cylinder(h = cone_9_h, r1 = fn_r(cone_9_r1), r2 = fn_r(cone_9_r2), center = true);
       translate([cone_10_cx, cone_10_cy, cone_10_cz]) rotate([cone_10_rot_x, cone_10_rot_y, 0]) cylinder(h = cone_10_h, r1 = fn_r(cone_10_r1), r2 = fn_r(cone_10_r2), center = true);
