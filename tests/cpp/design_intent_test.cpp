@@ -12,6 +12,7 @@
 #include "csgfit/optimise/prune.h"
 #include "csgfit/optimise/snap2d.h"
 #include "refine/moves2d.h"
+#include "refine/moves3d.h"
 
 namespace csgfit {
 namespace {
@@ -232,6 +233,28 @@ TEST(LocalOpt, MovesOneSideOfARectangleAndKeepsTheOthers) {
       EXPECT_NEAR(after - before, side.side == moved.side ? 2.5 : 0.0, 1e-9);
     }
     EXPECT_DOUBLE_EQ(p.angle, plate.angle);
+  }
+}
+
+TEST(LocalOpt, MovesOneFaceOfABoxAndKeepsTheOthers) {
+  // The range refinement's boxes: a face the views see a hair off moves alone.
+  const Primitive3D box = Primitive3D::box(1, 2, 3, 4, 5, 6, Quaternion::from_axis_angle(1, 1, 0, 30));
+  Moves3D moves{0.1};
+  moves.box_faces = true;
+  Moves3D::Param params[Moves3D::kMaxParams];
+  ASSERT_EQ(moves.params_of(PrimitiveKind3D::Box, LocalOptOptions{}, params), 6 + 3 + 3);
+  // The offset of face f along its outward normal.
+  const auto offset = [](const Primitive3D& p, int f) {
+    const Mat3 r = p.rotation.matrix();
+    const int axis = f / 2;
+    const double sign = (f % 2) ? 1 : -1;
+    return sign * (r[0][axis] * p.cx + r[1][axis] * p.cy + r[2][axis] * p.cz) + p.dims[axis] / 2;
+  };
+  for (int moved = 0; moved < 6; ++moved) {
+    Primitive3D p = box;
+    moves.move(p, static_cast<Moves3D::Param>(static_cast<int>(Moves3D::Param::Face0Minus) + moved), 0.25);
+    for (int f = 0; f < 6; ++f)
+      EXPECT_NEAR(offset(p, f) - offset(box, f), f == moved ? 0.25 : 0.0, 1e-9) << moved << " " << f;
   }
 }
 

@@ -49,6 +49,8 @@ def seed_002_graph(graph):
     arcs = {(a.from_, a.to): a.kind for a in graph.arcs}
     assert arcs.get((block, cut[0])) == "subtracting"
     assert all(arcs.get((cut[0], i)) == "appending" for i in small)
+    # Every face of object_b is seen: no cut is a conjecture.
+    assert not any(n.conjectured for n in graph.nodes)
     return block, cut[0], small, top[0]
 
 
@@ -71,6 +73,7 @@ def test_object_b_gives_the_seed_002_graph_and_its_outputs(tmp_path):
     doc = r.to_dict()
     assert doc == r.document and doc["dimension"] == 3
     assert len(doc["precedence_graph"]["nodes"]) == 5
+    assert all(n["conjectured"] is False for n in doc["precedence_graph"]["nodes"])
     assert r.sources == [ORTHO]
 
     for ext in ("json", "scad"):

@@ -12,17 +12,25 @@
 namespace csgfit {
 
 struct Moves3D {
-  enum class Param { X, Y, Z, Dim0, Dim1, Dim2, TurnX, TurnY, TurnZ, Apex };
-  static constexpr int kMaxParams = 10;
+  // Face0Minus .. Face2Plus: one face of a box moved outwards along its local axis, the
+  // others kept.
+  enum class Param { X, Y, Z, Dim0, Dim1, Dim2, TurnX, TurnY, TurnZ, Apex,
+                     Face0Minus, Face0Plus, Face1Minus, Face1Plus, Face2Minus, Face2Plus };
+  static constexpr int kMaxParams = 12;
 
   /// Steps are in model units; one voxel is this long.
   double unit = 1.0;
+  /// A box's faces move one at a time instead of its sizes: a face off by a little cannot get
+  /// there by growing (its opposite moves too) or by shifting.
+  bool box_faces = false;
 
   // The parameters worth moving for a kind.
-  static int params_of(PrimitiveKind3D kind, const LocalOptOptions& o, Param out[kMaxParams]) {
+  int params_of(PrimitiveKind3D kind, const LocalOptOptions& o, Param out[kMaxParams]) const {
     int n = 0;
     for (Param position : {Param::X, Param::Y, Param::Z}) out[n++] = position;
-    if (o.move_sizes) {
+    if (o.move_sizes && box_faces && kind == PrimitiveKind3D::Box) {
+      for (int f = 0; f < 6; ++f) out[n++] = static_cast<Param>(static_cast<int>(Param::Face0Minus) + f);
+    } else if (o.move_sizes) {
       int dims[3];
       const int nd = free_dims(kind, dims);
       for (int i = 0; i < nd; ++i)
@@ -89,7 +97,21 @@ struct Moves3D {
       case Param::Apex:
         p.apex += step / std::max(0.5 * p.dims[0], voxel);
         break;
+      default:
+        move_face(p, static_cast<int>(param) - static_cast<int>(Param::Face0Minus), step);
+        break;
     }
+  }
+
+ private:
+  // Face `f` (axis f / 2, the plus side when odd) moves outwards by `step`: the size grows by
+  // it and the centre moves by half of it along the face's normal.
+  static void move_face(Primitive3D& p, int f, double step) {
+    const int axis = f / 2;
+    const double sign = (f % 2) ? 0.5 : -0.5;
+    p.dims[axis] += step;
+    const Mat3 r = p.rotation.matrix();
+    p.cx += sign * step * r[0][axis], p.cy += sign * step * r[1][axis], p.cz += sign * step * r[2][axis];
   }
 };
 

@@ -52,7 +52,7 @@ Primitive3D fit_to_points(const Primitive3D& start, const std::vector<const Vec3
                           int iterations) {
   const Moves3D moves{voxel};
   Param params[Moves3D::kMaxParams];
-  const int np = Moves3D::params_of(start.kind, LocalOptOptions{}, params);
+  const int np = moves.params_of(start.kind, LocalOptOptions{}, params);
   const std::size_t m = pts.size();
   Primitive3D p = start;
   double cost = sum_squares(p, pts);
@@ -154,7 +154,7 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
     for (std::size_t i = 0; i < n; ++i) {
       if (std::chrono::steady_clock::now() >= options.deadline) return changed;
       Param params[Moves3D::kMaxParams];
-      const int np = Moves3D::params_of(ev.leaf(i).kind, LocalOptOptions{}, params);
+      const int np = Moves3D{}.params_of(ev.leaf(i).kind, LocalOptOptions{}, params);
       if (assigned[i].size() < static_cast<std::size_t>(3 * np)) continue;
       const Primitive3D refined = fit_to_points(ev.leaf(i), assigned[i], voxel, options.iterations);
       if (refined == ev.leaf(i)) continue;
