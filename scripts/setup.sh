@@ -43,11 +43,11 @@ build_all() {
 }
 
 # The GoogleTest suite built with ASan + UBSan. -O1 -g1 (line tables for the reports) builds in
-# half the time of RelWithDebInfo; the suite runs as one shard per core. Built by clang with
-# CSGFIT_FUZZ=ON, so that the same tree also builds the libFuzzer targets (fuzz/,
-# docs/FUZZING.md), which run after the suite: 30 s each, two at a time.
+# half the time of RelWithDebInfo. Built by clang with CSGFIT_FUZZ=ON, so that the same tree also
+# builds the libFuzzer targets (fuzz/, docs/FUZZING.md), which run after the suite: 10 s each, two
+# at a time (longer campaigns: scripts/fuzz.sh all SECONDS).
 run_sanitized_tests() {
-  local asan="$build-asan" shard pids=() failed=0
+  local asan="$build-asan" failed=0
   # A tree that another compiler configured (gcc, before the fuzz targets) is started afresh.
   if [ -f "$asan/CMakeCache.txt" ] && ! grep -q '^CSGFIT_FUZZ:BOOL=ON' "$asan/CMakeCache.txt"; then
     rm -rf "$asan"
@@ -56,24 +56,36 @@ run_sanitized_tests() {
     -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DCSGFIT_SANITIZE=ON -DCSGFIT_FUZZ=ON \
     -DCSGFIT_BUILD_TESTS=ON -DCSGFIT_BUILD_PYTHON=OFF >/dev/null
   cmake --build "$asan" -j "$jobs" --target csgfit_tests csgfit csgfit_fuzz
-  for ((shard = 0; shard < jobs; shard++)); do
-    # OpenCASCADE keeps its STEP tables for the life of the process (tests/lsan_occt.supp).
-    GTEST_TOTAL_SHARDS=$jobs GTEST_SHARD_INDEX=$shard \
-    LSAN_OPTIONS="suppressions=$repo/tests/lsan_occt.supp" \
-    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      "$asan/bin/csgfit_tests" --gtest_brief=1 >"$asan/shard_$shard.log" 2>&1 &
-    pids+=($!)
+  run_sanitized_shards "$asan" || failed=1
+  echo "== fuzz targets under ASan and UBSan (10 s each, two at a time)"
+  CSGFIT_FUZZ_BUILD_DIR="$asan" CSGFIT_FUZZ_JOBS=2 bash "$repo/scripts/fuzz.sh" all 10 || failed=1
+  return $failed
+}
+
+# Twice as many shards as cores, one per core at a time: a few long tests land in one shard, and
+# smaller shards even out the cores' loads.
+run_sanitized_shards() {
+  local asan="$1" shards=$((2 * jobs)) shard failed=0
+  for ((shard = 0; shard < shards; shard++)); do
+    ((shard < jobs)) || wait -n || true
+    (
+      # OpenCASCADE keeps its STEP tables for the life of the process (tests/lsan_occt.supp).
+      GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$shard \
+      LSAN_OPTIONS="suppressions=$repo/tests/lsan_occt.supp" \
+      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        "$asan/bin/csgfit_tests" --gtest_brief=1 >"$asan/shard_$shard.log" 2>&1
+      echo $? >"$asan/shard_$shard.rc"
+    ) &
   done
-  for ((shard = 0; shard < jobs; shard++)); do
-    if wait "${pids[$shard]}"; then
+  wait
+  for ((shard = 0; shard < shards; shard++)); do
+    if [ "$(cat "$asan/shard_$shard.rc" 2>/dev/null)" = 0 ]; then
       grep -h "PASSED" "$asan/shard_$shard.log"
     else
       cat "$asan/shard_$shard.log"
       failed=1
     fi
   done
-  echo "== fuzz targets under ASan and UBSan (30 s each, two at a time)"
-  CSGFIT_FUZZ_BUILD_DIR="$asan" CSGFIT_FUZZ_JOBS=2 bash "$repo/scripts/fuzz.sh" all 30 || failed=1
   return $failed
 }
 
