@@ -67,6 +67,19 @@ TEST(Fit, AllForegroundIsOneRectangle) {
   EXPECT_EQ(r.stats.iou, 1.0);
 }
 
+// The size weight scales with the pixel count; the paper's preset keeps its Table 2 weight.
+TEST(Fit, SizeWeightFollowsTheImageAreaAndThePreset) {
+  Bitmap half(128, 64);
+  half.fill();
+  EXPECT_DOUBLE_EQ(fit_bitmap(half, quick()).stats.k, 5);
+  FitOptions paper = quick();
+  paper.search = SearchParams::for_quality("paper");
+  EXPECT_DOUBLE_EQ(fit_bitmap(half, paper).stats.k, 12.5);
+  FitOptions given = quick();
+  given.k = 3;
+  EXPECT_DOUBLE_EQ(fit_bitmap(half, given).stats.k, 3);
+}
+
 TEST(Fit, TinyImagesWork) {
   Bitmap one(1, 1);
   one.set(0, 0);

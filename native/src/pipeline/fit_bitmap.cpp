@@ -27,8 +27,8 @@
 
 namespace csgfit {
 
-double default_k(int width, int height) {
-  return 25.0 * static_cast<double>(width) * static_cast<double>(height) / (128.0 * 128.0);
+double default_k(int width, int height, double k_at_128) {
+  return k_at_128 * static_cast<double>(width) * static_cast<double>(height) / (128.0 * 128.0);
 }
 
 using Clock = std::chrono::steady_clock;
@@ -36,7 +36,8 @@ using Clock = std::chrono::steady_clock;
 Problem2D make_problem2d(const Bitmap& target, const FitOptions& options, Clock::time_point start) {
   Problem2D pb;
   pb.target = &target;
-  pb.k = options.k >= 0 ? options.k : default_k(target.width(), target.height());
+  pb.k = options.k >= 0 ? options.k
+                        : default_k(target.width(), target.height(), options.search.k_at_128);
   pb.params = options.search;
   for (PrimitiveKind k : {PrimitiveKind::Rectangle, PrimitiveKind::Circle, PrimitiveKind::Ellipse,
                           PrimitiveKind::Triangle})

@@ -17,6 +17,7 @@ SearchParams SearchParams::paper() {
   p.added_size_sd = 1.5;
   p.local_iterations = 80;
   p.seed_with_decomposition = false;
+  p.k_at_128 = 25;
   return p;
 }
 
@@ -42,6 +43,7 @@ SearchParams SearchParams::for_morph(const std::string& preset) {
   if (preset == "default") {
     SearchParams p;
     p.initial_size_mean = 5;
+    p.k_at_128 = 25;  // as the paper's pairs: fewer primitives morph more legibly
     return p;
   }
   throw std::invalid_argument("unknown preset '" + preset + "' (expected default or paper)");

@@ -28,8 +28,8 @@ struct FitOptions {
   bool optimize_tree = true;    ///< seed 001's optimiser as the last stage (same solid, smaller tree)
 };
 
-/// k for an image: 25 at 128 x 128, proportional to the pixel count.
-double default_k(int width, int height);
+/// k for an image: k_at_128 at 128 x 128 (SearchParams::k_at_128), proportional to the pixel count.
+double default_k(int width, int height, double k_at_128 = SearchParams{}.k_at_128);
 
 /// One result tree with its own mismatch.
 struct FitTree {

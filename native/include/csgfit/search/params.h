@@ -46,6 +46,10 @@ struct SearchParams {
   int migration_interval = 4;    ///< generations between RingOfBests migrations
   /// A child replaces its parent when it scores lower by more than this.
   double accept_margin = 0;
+  /// The size weight k of a 128 x 128 image when none is given (default_k scales it to the
+  /// pixel count). The paper's Table 2 has 25; at 10 every 2D benchmark category fits closer
+  /// than potrace with under half its numbers (docs/ALGORITHMS.md).
+  double k_at_128 = 10;
 
   static SearchParams paper();
   /// The 3D voxel search: one tree per island, 4 perturbations a generation, the best tree to
