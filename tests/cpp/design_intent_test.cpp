@@ -156,6 +156,31 @@ TEST(DesignSnapBars, NearEqualBarWidthsBecomeOneWhicheverWayTheyAreTurned) {
   EXPECT_EQ(ev.mismatch().total(), 0u);
 }
 
+// A plate drawn (or scanned) 0.4 degrees off square: a designer drew it square, so it comes
+// back square even with no budget; 2 degrees off is a designed angle and stays.
+TEST(DesignSnapAngles, ANearRightAngleIsStraightenedWhateverItCosts) {
+  for (double angle : {0.4, 89.6, 2.0}) {
+    const Bitmap target = render(leaf(Primitive::rectangle(60.2, 60.3, 90, 50, angle)), 120, 120);
+    Node tree = leaf(Primitive::rectangle(60.2, 60.3, 90, 50, angle));
+    TreeEvaluator ev(target, tree);
+    const DesignSnaps snaps = snap_to_design_values(ev, PrimitiveSet::all(), 0.0);
+    if (angle == 2.0) {
+      EXPECT_EQ(ev.leaf(0).angle, 2.0);
+      EXPECT_EQ(snaps.straightening_cost, 0.0);
+      continue;
+    }
+    EXPECT_EQ(std::fmod(ev.leaf(0).angle, 90.0), 0.0) << angle;
+    EXPECT_GT(snaps.straightening_cost, 0.0);
+    EXPECT_LE(static_cast<double>(ev.mismatch().total()), snaps.straightening_cost);
+    // The re-fit keeps the square plate on the drawn one: no more than the turn alone sweeps.
+    Bitmap excess(120, 120), uncovered = target;
+    rasterize(Primitive::rectangle(60.2, 60.3, 90, 50, std::round(angle / 90) * 90), excess);
+    uncovered.subtract(excess);
+    excess.subtract(target);
+    EXPECT_LE(snaps.straightening_cost, static_cast<double>(excess.count() + uncovered.count()));
+  }
+}
+
 }  // namespace
 }  // namespace csgfit
 

@@ -171,8 +171,12 @@ class GroupSnapper {
 
 double round_to(double v, double step) { return std::round(v / step) * step; }
 
+constexpr double kStraightening = 0.5;  // degrees
+
 // Shapes and angles: a round ellipse becomes a circle, angles go to 15 degrees or whole ones,
-// a triangle's apex to seed 003's isosceles and right-angled ones.
+// a triangle's apex to seed 003's isosceles and right-angled ones. An angle within
+// kStraightening of a multiple of 15 degrees is a wobble of the drawing or the scan, not a
+// designed angle: it snaps whatever it costs.
 template <typename Attempt>
 void snap_shapes(TreeEvaluator& ev, PrimitiveSet allowed, Attempt& attempt) {
   for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
@@ -184,7 +188,8 @@ void snap_shapes(TreeEvaluator& ev, PrimitiveSet allowed, Attempt& attempt) {
     if (ev.leaf(i).kind != PrimitiveKind::Circle) {
       Primitive q = ev.leaf(i);
       q.angle = round_to(q.angle, 15.0);
-      if (!attempt(i, q, true, false)) {
+      const bool wobble = std::fabs(q.angle - ev.leaf(i).angle) <= kStraightening;
+      if (!attempt(i, q, true, false, wobble)) {
         q = ev.leaf(i);
         q.angle = round_to(q.angle, 1.0);
         attempt(i, q, true, false);
@@ -246,12 +251,14 @@ void snap_round_numbers(TreeEvaluator& ev, const GroupSnapper& groups, Attempt& 
 
 }  // namespace
 
-std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, double pixel_budget) {
-  std::size_t snapped = 0;
+DesignSnaps snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, double pixel_budget) {
+  DesignSnaps out;
   double budget = pixel_budget;
-  // Keeps `trial` (after re-fitting what it leaves free) if that costs at most the budget left.
+  // Keeps `trial` (after re-fitting what it leaves free) if that costs at most the budget left,
+  // or whatever it costs when it straightens a near-right angle.
   LocalOptOptions refit = LocalOptOptions::pattern(20, 0.5, 0.0625);
-  auto attempt = [&](std::size_t leaf, const Primitive& trial, bool angle_fixed, bool size_fixed) {
+  auto attempt = [&](std::size_t leaf, const Primitive& trial, bool angle_fixed, bool size_fixed,
+                     bool straightens = false) {
     if (trial == ev.leaf(leaf)) return false;
     const Primitive original = ev.leaf(leaf);
     const double before = static_cast<double>(ev.mismatch().total());
@@ -261,13 +268,18 @@ std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, doubl
     refit.move_sizes = !size_fixed;
     if (angle_fixed || size_fixed) optimize_leaves(ev, refit, {leaf});
     const double after = static_cast<double>(ev.mismatch().total());
-    if (after - before > budget || !free_of_ties(ev.leaf(leaf), ev.leaf_mask(leaf))) {
+    const double cost = std::max(0.0, after - before);
+    if ((!straightens && cost > budget) || !free_of_ties(ev.leaf(leaf), ev.leaf_mask(leaf))) {
       ev.leaf(leaf) = original;
       ev.update_leaf(leaf);
       return false;
     }
-    budget -= std::max(0.0, after - before);
-    ++snapped;
+    if (straightens) {
+      out.straightening_cost += cost;
+    } else {
+      budget -= cost;
+    }
+    ++out.snapped;
     return true;
   };
   snap_shapes(ev, allowed, attempt);
@@ -275,7 +287,8 @@ std::size_t snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, doubl
   groups.concentric();
   groups.equal_sizes();
   snap_round_numbers(ev, groups, attempt);
-  return snapped + groups.snapped();
+  out.snapped += groups.snapped();
+  return out;
 }
 
 std::size_t untie(TreeEvaluator& ev) {

@@ -159,12 +159,12 @@ Candidate polish(Candidate best, const Bitmap& target, const FitOptions& options
   // Designer-friendly numbers for at most 0.2 % of the shape's pixels (and never more than
   // one primitive's worth of score).
   const double snap_budget = std::min(pb.k, 0.002 * static_cast<double>(target.count()));
-  snap_to_design_values(ev, options.primitives, snap_budget);
+  const DesignSnaps snaps = snap_to_design_values(ev, options.primitives, snap_budget);
   evaluations += ev.evaluations();
   Candidate polished{tree, ev.mismatch(), tree.primitive_count(), 0};
   polished.score = score(polished.mismatch, polished.primitives, pb.k);
   // Snapping may cost a little score; it is kept when the tree is otherwise no worse.
-  if (polished.score <= best.score + snap_budget) best = polished;
+  if (polished.score <= best.score + snap_budget + snaps.straightening_cost) best = polished;
   TreeEvaluator tied(target, best.tree);
   untie(tied);
   return best;

@@ -9,12 +9,18 @@
 
 namespace csgfit {
 
+/// What snap_to_design_values changed.
+struct DesignSnaps {
+  std::size_t snapped = 0;          ///< parameters given a design value
+  double straightening_cost = 0;    ///< pixels the near-right angles added beyond the budget
+};
+
 /// Rounds parameters to values a designer would type, where that costs (almost) nothing:
 /// ellipses with nearly equal axes become circles (if allowed), angles go to multiples of 15
 /// degrees, else whole degrees, positions and sizes to half pixels. Each change is kept only if
-/// the mismatch grows by no more than what is left of `pixel_budget` (spent as it goes).
-/// Returns the number of snapped parameters.
-std::size_t snap_to_design_values(TreeEvaluator& evaluator, PrimitiveSet allowed,
+/// the mismatch grows by no more than what is left of `pixel_budget` (spent as it goes), except
+/// that an angle within 0.5 degrees of a multiple of 15 always snaps (its cost is reported).
+DesignSnaps snap_to_design_values(TreeEvaluator& evaluator, PrimitiveSet allowed,
                                   double pixel_budget);
 
 /// Moves primitive boundaries off pixel centres by a few thousandths of a pixel without changing
