@@ -195,6 +195,17 @@ void snap_shapes(TreeEvaluator& ev, PrimitiveSet allowed, Attempt& attempt) {
         attempt(i, q, true, false);
       }
     }
+    const PrimitiveKind kind = ev.leaf(i).kind;
+    const double quarters = ev.leaf(i).angle / 90.0;
+    if ((kind == PrimitiveKind::Rectangle || kind == PrimitiveKind::Ellipse) && quarters != 0 &&
+        quarters == std::round(quarters)) {
+      // Turned by quarter turns, a centred shape is itself with its sides swapped or not: a
+      // designer writes it unturned.
+      Primitive q = ev.leaf(i);
+      if (std::fmod(quarters, 2.0) != 0) std::swap(q.w, q.h);
+      q.angle = 0;
+      attempt(i, q, true, true);
+    }
     if (ev.leaf(i).kind == PrimitiveKind::Triangle) {
       Primitive q = ev.leaf(i);
       q.apex = round_to(q.apex, 1.0);

@@ -14,9 +14,8 @@ rect_side = 22.5423; // [0:0.1:200]
 /* [Rectangle 1] */
 rect_1_cx = 66.5; // [0:0.1:200]
 rect_1_cy = 65; // [0:0.1:200]
-rect_1_w = 78; // [0:0.1:200]
-rect_1_h = 59; // [0:0.1:200]
-rect_1_angle = 90; // [0:0.1:360]
+rect_1_w = 59; // [0:0.1:200]
+rect_1_h = 78; // [0:0.1:200]
 
 /* [Rectangle 2] */
 rect_2_cx = 75; // [0:0.1:200]
@@ -100,7 +99,7 @@ function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 module glyph_b_lower() {
   union() {
     difference() {
-      translate([rect_1_cx, rect_1_cy]) rotate(rect_1_angle) square([rect_1_w, rect_1_h], center = true);
+      translate([rect_1_cx, rect_1_cy]) square([rect_1_w, rect_1_h], center = true);
       difference() {
         translate([rect_2_cx, rect_2_cy]) square([rect_2_w, rect_2_h], center = true);
         intersection() {

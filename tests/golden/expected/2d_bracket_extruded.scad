@@ -21,9 +21,8 @@ hole_r = 5.75; // [0:0.01:100]
 /* [Rectangle 1] */
 rect_1_cx = 36.5; // [0:0.01:100]
 rect_1_cy = 24.75; // [0:0.01:100]
-rect_1_w = 30.5; // [0:0.01:100]
-rect_1_h = 58; // [0:0.01:100]
-rect_1_angle = 90; // [0:0.1:360]
+rect_1_w = 58; // [0:0.01:100]
+rect_1_h = 30.5; // [0:0.01:100]
 
 /* [Circle 2] */
 circle_2_r = 14.25; // [0:0.01:100]
@@ -31,9 +30,8 @@ circle_2_r = 14.25; // [0:0.01:100]
 /* [Rectangle 3] */
 rect_3_cx = 7.25; // [0:0.01:100]
 rect_3_cy = 32.5; // [0:0.01:100]
-rect_3_w = 15; // [0:0.01:100]
-rect_3_h = 0.5; // [0:0.01:100]
-rect_3_angle = 90; // [0:0.1:360]
+rect_3_w = 0.5; // [0:0.01:100]
+rect_3_h = 15; // [0:0.01:100]
 
 /* [Circle 4] */
 circle_4_cx = 19.75; // [0:0.01:100]
@@ -58,9 +56,9 @@ function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 module bracket() {
   difference() {
     union() {
-      translate([rect_1_cx, rect_1_cy]) rotate(rect_1_angle) square([rect_1_w, rect_1_h], center = true);
+      translate([rect_1_cx, rect_1_cy]) square([rect_1_w, rect_1_h], center = true);
       translate([centre_x, centre_y]) circle(r = fn_r(circle_2_r));
-      translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_3_w, rect_3_h], center = true);
+      translate([rect_3_cx, rect_3_cy]) square([rect_3_w, rect_3_h], center = true);
     }
     translate([circle_4_cx, circle_4_cy]) circle(r = fn_r(hole_r));
     translate([circle_5_cx, circle_5_cy]) circle(r = fn_r(hole_r));

@@ -29,9 +29,8 @@ ellipse_3_ry = 11; // [0:0.1:200]
 /* [Rectangle 4] */
 rect_4_cx = 46; // [0:0.1:200]
 rect_4_cy = 64; // [0:0.1:200]
-rect_4_w = 74; // [0:0.1:200]
-rect_4_h = 20; // [0:0.1:200]
-rect_4_angle = 90; // [0:0.1:360]
+rect_4_w = 20; // [0:0.1:200]
+rect_4_h = 74; // [0:0.1:200]
 
 /* [Hidden] */
 // Pixel size of the source image in mm; the dimensions above are already in mm.
@@ -51,7 +50,7 @@ module glyph_p() {
       }
       translate([ellipse_3_cx, ellipse_3_cy]) scale([ellipse_3_rx, ellipse_3_ry]) circle(r = fn_r(1));
     }
-    translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
+    translate([rect_4_cx, rect_4_cy]) square([rect_4_w, rect_4_h], center = true);
   }
 }
 

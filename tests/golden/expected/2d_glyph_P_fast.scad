@@ -39,9 +39,8 @@ rect_5_cy = 68.5; // [0:0.1:200]
 /* [Rectangle 6] */
 rect_6_cx = 46; // [0:0.1:200]
 rect_6_cy = 64; // [0:0.1:200]
-rect_6_w = 74; // [0:0.1:200]
-rect_6_h = 20; // [0:0.1:200]
-rect_6_angle = 90; // [0:0.1:360]
+rect_6_w = 20; // [0:0.1:200]
+rect_6_h = 74; // [0:0.1:200]
 
 /* [Hidden] */
 // Pixel size of the source image in mm; the dimensions above are already in mm.
@@ -63,7 +62,7 @@ module glyph_p() {
       translate([rect_4_cx, rect_4_cy]) square([rect_side, rect_side], center = true);
       translate([rect_5_cx, rect_5_cy]) square([rect_side, rect_side], center = true);
     }
-    translate([rect_6_cx, rect_6_cy]) rotate(rect_6_angle) square([rect_6_w, rect_6_h], center = true);
+    translate([rect_6_cx, rect_6_cy]) square([rect_6_w, rect_6_h], center = true);
   }
 }
 

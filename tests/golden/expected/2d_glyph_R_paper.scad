@@ -34,16 +34,14 @@ ellipse_4_angle = 10; // [0:0.1:360]
 /* [Rectangle 5] */
 rect_5_cx = 44; // [0:0.1:200]
 rect_5_cy = 64; // [0:0.1:200]
-rect_5_w = 74; // [0:0.1:200]
-rect_5_h = 20; // [0:0.1:200]
-rect_5_angle = 90; // [0:0.1:360]
+rect_5_w = 20; // [0:0.1:200]
+rect_5_h = 74; // [0:0.1:200]
 
 /* [Rectangle 6] */
 rect_6_cx = 64; // [0:0.1:200]
 rect_6_cy = 13.5; // [0:0.1:200]
-rect_6_w = 27; // [0:0.1:200]
-rect_6_h = 128; // [0:0.1:200]
-rect_6_angle = 90; // [0:0.1:360]
+rect_6_w = 128; // [0:0.1:200]
+rect_6_h = 27; // [0:0.1:200]
 
 /* [Hidden] */
 // Pixel size of the source image in mm; the dimensions above are already in mm.
@@ -65,9 +63,9 @@ module glyph_r() {
         }
         translate([ellipse_4_cx, ellipse_4_cy]) rotate(ellipse_4_angle) scale([ellipse_4_rx, ellipse_4_ry]) circle(r = fn_r(1));
       }
-      translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_5_w, rect_5_h], center = true);
+      translate([rect_5_cx, rect_5_cy]) square([rect_5_w, rect_5_h], center = true);
     }
-    translate([rect_6_cx, rect_6_cy]) rotate(rect_6_angle) square([rect_6_w, rect_6_h], center = true);
+    translate([rect_6_cx, rect_6_cy]) square([rect_6_w, rect_6_h], center = true);
   }
 }
 

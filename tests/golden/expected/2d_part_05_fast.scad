@@ -23,9 +23,8 @@ circle_2_r = 29.0999; // [0:0.1:200]
 /* [Ellipse 3] */
 ellipse_3_cx = 87.3897; // [0:0.1:200]
 ellipse_3_cy = 83.3597; // [0:0.1:200]
-ellipse_3_rx = 11.6383; // [0:0.1:200]
-ellipse_3_ry = 5.9681; // [0:0.1:200]
-ellipse_3_angle = 90; // [0:0.1:360]
+ellipse_3_rx = 5.9681; // [0:0.1:200]
+ellipse_3_ry = 11.6383; // [0:0.1:200]
 
 /* [Triangle 4] */
 tri_4_cx = 90.9522; // [0:0.1:200]
@@ -89,7 +88,7 @@ module part_05() {
     union() {
       translate([tri_1_cx, tri_1_cy]) rotate(tri_1_angle) polygon([[-tri_1_w / 2, -tri_1_h / 2], [tri_1_w / 2, -tri_1_h / 2], [tri_1_apex * tri_1_w / 2, tri_1_h / 2]]);
       translate([circle_2_cx, circle_2_cy]) circle(r = fn_r(circle_2_r));
-      translate([ellipse_3_cx, ellipse_3_cy]) rotate(ellipse_3_angle) scale([ellipse_3_rx, ellipse_3_ry]) circle(r = fn_r(1));
+      translate([ellipse_3_cx, ellipse_3_cy]) scale([ellipse_3_rx, ellipse_3_ry]) circle(r = fn_r(1));
     }
     difference() {
       translate([tri_4_cx, tri_4_cy]) rotate(tri_4_angle) polygon([[-tri_4_w / 2, -tri_4_h / 2], [tri_4_w / 2, -tri_4_h / 2], [tri_4_apex * tri_4_w / 2, tri_4_h / 2]]);

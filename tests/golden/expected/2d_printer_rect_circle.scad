@@ -45,7 +45,6 @@ rect_4_angle = 120; // [0:0.1:360]
 /* [Rectangle 5] */
 rect_5_cx = 64; // [0:0.1:500]
 rect_5_cy = 36; // [0:0.1:500]
-rect_5_angle = 90; // [0:0.1:360]
 
 /* [Rectangle 6] */
 rect_6_cx = 4.5; // [0:0.1:500]
@@ -99,7 +98,7 @@ module icon_printer() {
     }
     translate([rect_3_cx, rect_3_cy]) rotate(rect_3_angle) square([rect_side2, rect_3_h], center = true);
     translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
-    translate([rect_5_cx, rect_5_cy]) rotate(rect_5_angle) square([rect_side3, rect_side], center = true);
+    translate([rect_5_cx, rect_5_cy]) square([rect_side, rect_side3], center = true);
     translate([rect_6_cx, rect_6_cy]) square([rect_side4, rect_side4], center = true);
     translate([rect_7_cx, rect_7_cy]) rotate(rect_7_angle) square([rect_7_w, rect_7_h], center = true);
     translate([rect_8_cx, rect_8_cy]) rotate(rect_8_angle) square([rect_8_w, rect_8_h], center = true);

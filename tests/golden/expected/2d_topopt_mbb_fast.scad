@@ -38,9 +38,8 @@ tri_3_apex = 0; // [-4:0.01:4]
 /* [Rectangle 4] */
 rect_4_cx = 64; // [0:0.1:500]
 rect_4_cy = 36; // [0:0.1:500]
-rect_4_w = 4; // [0:0.1:500]
-rect_4_h = 2; // [0:0.1:500]
-rect_4_angle = 90; // [0:0.1:360]
+rect_4_w = 2; // [0:0.1:500]
+rect_4_h = 4; // [0:0.1:500]
 
 /* [Ellipse 5] */
 ellipse_5_cx = 36.3574; // [0:0.1:500]
@@ -113,9 +112,8 @@ tri_13_apex = 0; // [-4:0.01:4]
 /* [Rectangle 14] */
 rect_14_cx = 64; // [0:0.1:500]
 rect_14_cy = 18; // [0:0.1:500]
-rect_14_w = 24; // [0:0.1:500]
-rect_14_h = 42; // [0:0.1:500]
-rect_14_angle = 90; // [0:0.1:360]
+rect_14_w = 42; // [0:0.1:500]
+rect_14_h = 24; // [0:0.1:500]
 
 /* [Triangle 15] */
 tri_15_cx = 43.4205; // [0:0.1:500]
@@ -226,7 +224,7 @@ module topopt_mbb_beam() {
       translate([rect_1_cx, rect_1_cy]) rotate(rect_1_angle) square([rect_1_w, rect_1_h], center = true);
       translate([ellipse_2_cx, ellipse_2_cy]) rotate(ellipse_2_angle) scale([ellipse_2_rx, ellipse_2_ry]) circle(r = fn_r(1));
       translate([tri_3_cx, tri_3_cy]) rotate(tri_3_angle) polygon([[-tri_3_w / 2, -tri_3_h / 2], [tri_3_w / 2, -tri_3_h / 2], [tri_3_apex * tri_3_w / 2, tri_3_h / 2]]);
-      translate([rect_4_cx, rect_4_cy]) rotate(rect_4_angle) square([rect_4_w, rect_4_h], center = true);
+      translate([rect_4_cx, rect_4_cy]) square([rect_4_w, rect_4_h], center = true);
       difference() {
         translate([ellipse_5_cx, ellipse_5_cy]) rotate(ellipse_5_angle) scale([ellipse_5_rx, ellipse_5_ry]) circle(r = fn_r(1));
         translate([tri_6_cx, tri_6_cy]) rotate(tri_6_angle) polygon([[-tri_6_w / 2, -tri_6_h / 2], [tri_6_w / 2, -tri_6_h / 2], [tri_6_apex * tri_6_w / 2, tri_6_h / 2]]);
@@ -241,7 +239,7 @@ module topopt_mbb_beam() {
         translate([tri_13_cx, tri_13_cy]) rotate(tri_13_angle) polygon([[-tri_13_w / 2, -tri_13_h / 2], [tri_13_w / 2, -tri_13_h / 2], [tri_13_apex * tri_13_w / 2, tri_13_h / 2]]);
       }
       difference() {
-        translate([rect_14_cx, rect_14_cy]) rotate(rect_14_angle) square([rect_14_w, rect_14_h], center = true);
+        translate([rect_14_cx, rect_14_cy]) square([rect_14_w, rect_14_h], center = true);
         translate([tri_15_cx, tri_15_cy]) rotate(tri_15_angle) polygon([[-tri_15_w / 2, -tri_15_h / 2], [tri_15_w / 2, -tri_15_h / 2], [tri_15_apex * tri_15_w / 2, tri_15_h / 2]]);
         translate([rect_16_cx, rect_16_cy]) square([rect_16_w, rect_16_h], center = true);
         translate([tri_17_cx, tri_17_cy]) rotate(tri_17_angle) polygon([[-tri_17_w / 2, -tri_17_h / 2], [tri_17_w / 2, -tri_17_h / 2], [tri_17_apex * tri_17_w / 2, tri_17_h / 2]]);
