@@ -31,6 +31,22 @@ void in_front_of_returns(const RangeScan& scan, std::size_t stride, double tol, 
   }
 }
 
+// Half a tolerance behind every `stride`-th return, along its inward normal. A return seen at a
+// grazing angle sits on an edge or a silhouette, where the image's normals blur: skipped.
+void behind_returns(const RangeScan& scan, std::size_t stride, double tol, RangeEvidence& e) {
+  if (scan.normals.size() != scan.points.size()) return;
+  const bool rays = scan.camera && scan.organised();
+  for (std::size_t i = 0; i < scan.points.size(); i += stride) {
+    const Vec3& n = scan.normals[i];
+    if (rays) {
+      const int px = scan.pixel[i];
+      const Vec3 ray = scan.camera->ray_direction(px % scan.width + 0.0, px / scan.width + 0.0);
+      if (-dot(ray, n) < 0.3) continue;
+    }
+    e.behind.push_back(add(scan.points[i], scale(n, -0.5 * tol)));
+  }
+}
+
 // Pixels within `reach` pixels (chessboard distance) of a return: the band around the
 // silhouette where a tree a little too large shows.
 std::vector<char> near_returns(const std::vector<char>& returned, int width, int height, int reach) {
@@ -157,6 +173,7 @@ RangeEvidence gather_evidence(const std::vector<RangeScan>& scans, double tolera
     for (std::size_t i = 0; i < s.points.size(); i += stride) e.surface.push_back(s.points[i]);
     // A quarter of the empty points in front of returns, the rest through misses.
     in_front_of_returns(s, stride * 2, tolerance, e);
+    behind_returns(s, stride * 2, tolerance, e);
     through_misses(s, reach, 6 * max_surface / scans.size(), e);
   }
   hidden_points(scans, box, 2 * max_surface, tolerance, e);

@@ -59,6 +59,7 @@ SignedPrimitive halfspace_cut(const SurfacePatch& face, const Bounds3& part, boo
   SignedPrimitive cut;
   cut.positive = false;
   cut.conjectured = true;
+  cut.halfspace = true;
   cut.primitive = Primitive3D::box(centre[0], centre[1], centre[2], depth, 2 * reach, 2 * reach,
                                    quaternion_from_matrix(m));
   return cut;

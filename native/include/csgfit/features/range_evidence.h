@@ -17,6 +17,9 @@ struct RangeEvidence {
   /// Points of the part's box that no view sees, behind the surface from every camera (none
   /// when a scan has no camera): where the primitives' hidden volume is.
   std::vector<Vec3> hidden;
+  /// Points half a tolerance behind seen returns, along the inward normal: inside the part
+  /// unless it is thinner than that. What tells a solid from a skin with the same surface.
+  std::vector<Vec3> behind;
   double tolerance = 0;       ///< how far a surface point may be from the tree's surface
 };
 
@@ -24,7 +27,8 @@ struct RangeEvidence {
 /// with surface tolerance `tolerance`. Scans with a camera give empty points along their rays
 /// (in front of returns, every ray that returned nothing near the silhouette, and others through
 /// the part's box as far as `max_surface` allows); scans without one give them along the outward
-/// normals. Hidden points lie on a lattice over the part's box.
+/// normals. Hidden points lie on a lattice over the part's box; behind points come with every
+/// other surface point whose normal faces its view (not grazing, where normals blur).
 RangeEvidence gather_evidence(const std::vector<RangeScan>& scans, double tolerance,
                               std::size_t max_surface);
 

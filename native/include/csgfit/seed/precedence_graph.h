@@ -21,6 +21,9 @@ struct SignedPrimitive {
   /// A cut no seen surface bounds but the plane it shares with a seen face (a halfspace the
   /// graph search tries): it pays for the hidden material it takes away (range_refine.h).
   bool conjectured = false;
+  /// A conjectured cut that is a halfspace through a seen face's plane (not a pocket): what
+  /// trims a primitive's hidden part (search/hidden_trim.h).
+  bool halfspace = false;
 };
 
 enum class ArcKind {

@@ -1,0 +1,95 @@
+// Trimming hidden material (seed 002's smallest hidden extents, for what a cut takes away) on
+// scans rendered from known trees: a dome's hidden lower half under its plate goes, what a view
+// saw stays, and a seen face is not hollowed into a skin.
+#include <gtest/gtest.h>
+
+#include "csgfit/features/range_evidence.h"
+#include "csgfit/refine/range_refine.h"
+#include "csgfit/search/hidden_trim.h"
+#include "range_scans.h"
+
+namespace csgfit {
+namespace {
+
+using testing::looking_at;
+using testing::scan_of;
+
+SignedPrimitive signed_node(const Primitive3D& p, bool positive) {
+  SignedPrimitive s;
+  s.primitive = p;
+  s.positive = positive;
+  return s;
+}
+
+// The halfspace below (or above) the plane z = height, as the surface candidates give it.
+SignedPrimitive halfspace(double height, bool below) {
+  SignedPrimitive cut = signed_node(Primitive3D::box(0, 0, height + (below ? -10 : 10), 40, 40, 20), false);
+  cut.conjectured = cut.halfspace = true;
+  return cut;
+}
+
+PrecedenceGraph graph_of(const std::vector<SignedPrimitive>& positives) {
+  PrecedenceGraph g;
+  for (const SignedPrimitive& p : positives) g = with_node(g, p, {});
+  return g;
+}
+
+RangeEvidence evidence_of(const Node3D& truth) {
+  const RangeScan scan = scan_of(truth, looking_at({0, 0, 0}, 30, 35, 30, 160, 0.08));
+  return gather_evidence({scan}, 0.1, 6000);
+}
+
+const Primitive3D kPlate = Primitive3D::box(0, 0, 0, 8, 6, 0.5);  // top face at z = 0.25
+const Primitive3D kBall = Primitive3D::sphere(0, 0, 0.25, 2);
+const std::vector<SignedPrimitive> kCuts = {halfspace(0.25, true), halfspace(0.25, false)};
+
+
+TEST(HiddenTrim, ADomesHiddenLowerHalfUnderItsPlateGoes) {
+  const Node3D dome = Node3D::op(NodeKind::Difference,
+                                 {Node3D::leaf(kBall), Node3D::leaf(kCuts[0].primitive)});
+  const RangeEvidence evidence = evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), dome}));
+  const PrecedenceGraph g = trim_hidden(graph_of({signed_node(kPlate, true), signed_node(kBall, true)}),
+                                        kCuts, evidence, evidence_k(evidence));
+  ASSERT_EQ(g.nodes.size(), 3u);
+  EXPECT_TRUE(g.nodes[2].conjectured);
+  const Node3D tree = precedence_tree(g);
+  EXPECT_FALSE(contains(tree, 0, 0, -1.2)) << "the ball's hidden half under the plate is cut";
+  EXPECT_TRUE(contains(tree, 0, 0, 1.5)) << "the dome the view saw stays";
+  EXPECT_TRUE(contains(tree, 0, 0, 0)) << "the plate is whole";
+  EXPECT_TRUE(contains(tree, 3.5, 2.5, 0));
+}
+
+TEST(HiddenTrim, WhatAViewSawStays) {
+  // The whole ball seen above a plate that reaches only to its middle: the view sees below
+  // the plate's plane on the ball's front, so no cut by that plane is unseen.
+  const Primitive3D small_plate = Primitive3D::box(-3, 0, 0, 4, 6, 0.5);
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(small_plate), Node3D::leaf(kBall)}));
+  const PrecedenceGraph start = graph_of({signed_node(small_plate, true), signed_node(kBall, true)});
+  const PrecedenceGraph g = trim_hidden(start, kCuts, evidence, evidence_k(evidence));
+  EXPECT_EQ(g.nodes.size(), 2u);
+}
+
+TEST(HiddenTrim, ASeenFaceIsNotHollowedIntoASkin) {
+  // A plate cut by the plane of its own top face leaves nothing but a surface where the view saw
+  // one: the points behind its returns tell. Seen from straight above, where its sides do not.
+  const RangeScan scan = scan_of(Node3D::leaf(kPlate), looking_at({0, 0, 0}, 30, 89, 30, 160, 0.08));
+  const RangeEvidence evidence = gather_evidence({scan}, 0.1, 6000);
+  ASSERT_FALSE(evidence.behind.empty());
+  const PrecedenceGraph plate = graph_of({signed_node(kPlate, true)});
+  EXPECT_EQ(trim_hidden(plate, kCuts, evidence, evidence_k(evidence)).nodes.size(), 1u);
+  RangeEvidence blind = evidence;
+  blind.behind.clear();
+  EXPECT_EQ(trim_hidden(plate, kCuts, blind, evidence_k(blind)).nodes.size(), 2u)
+      << "without them the skin looks the same as the plate";
+}
+
+TEST(HiddenTrim, NothingWithoutACamera) {
+  RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
+  evidence.hidden.clear();  // what a scan without a camera gives
+  const PrecedenceGraph start = graph_of({signed_node(kPlate, true), signed_node(kBall, true)});
+  EXPECT_EQ(trim_hidden(start, kCuts, evidence, evidence_k(evidence)).nodes.size(), 2u);
+}
+
+}  // namespace
+}  // namespace csgfit
