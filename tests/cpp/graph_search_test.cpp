@@ -8,31 +8,16 @@
 #include "csgfit/search/graph_search.h"
 #include "csgfit/seed/evidence_pockets.h"
 #include "csgfit/seed/surface_candidates.h"
-#include "range_scans.h"
+#include "range_graphs.h"
 
 namespace csgfit {
 namespace {
 
+using testing::evidence_of;
+using testing::graph_of;
 using testing::looking_at;
 using testing::scan_of;
-
-SignedPrimitive signed_node(const Primitive3D& p, bool positive) {
-  SignedPrimitive s;
-  s.primitive = p;
-  s.positive = positive;
-  return s;
-}
-
-PrecedenceGraph graph_of(const std::vector<SignedPrimitive>& positives) {
-  PrecedenceGraph g;
-  for (const SignedPrimitive& p : positives) g = with_node(g, p, {});
-  return g;
-}
-
-RangeEvidence evidence_of(const Node3D& truth) {
-  const RangeScan scan = scan_of(truth, looking_at({0, 0, 0}, 30, 35, 30, 160, 0.08));
-  return gather_evidence({scan}, 0.1, 6000);
-}
+using testing::signed_node;
 
 GraphSearchOptions options_for(const RangeEvidence& evidence) {
   GraphSearchOptions o;

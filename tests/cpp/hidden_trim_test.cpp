@@ -6,20 +6,16 @@
 #include "csgfit/features/range_evidence.h"
 #include "csgfit/refine/range_refine.h"
 #include "csgfit/search/hidden_trim.h"
-#include "range_scans.h"
+#include "range_graphs.h"
 
 namespace csgfit {
 namespace {
 
+using testing::evidence_of;
+using testing::graph_of;
 using testing::looking_at;
 using testing::scan_of;
-
-SignedPrimitive signed_node(const Primitive3D& p, bool positive) {
-  SignedPrimitive s;
-  s.primitive = p;
-  s.positive = positive;
-  return s;
-}
+using testing::signed_node;
 
 // The halfspace below (or above) the plane z = height, as the surface candidates give it.
 SignedPrimitive halfspace(double height, bool below) {
@@ -28,21 +24,9 @@ SignedPrimitive halfspace(double height, bool below) {
   return cut;
 }
 
-PrecedenceGraph graph_of(const std::vector<SignedPrimitive>& positives) {
-  PrecedenceGraph g;
-  for (const SignedPrimitive& p : positives) g = with_node(g, p, {});
-  return g;
-}
-
-RangeEvidence evidence_of(const Node3D& truth) {
-  const RangeScan scan = scan_of(truth, looking_at({0, 0, 0}, 30, 35, 30, 160, 0.08));
-  return gather_evidence({scan}, 0.1, 6000);
-}
-
 const Primitive3D kPlate = Primitive3D::box(0, 0, 0, 8, 6, 0.5);  // top face at z = 0.25
 const Primitive3D kBall = Primitive3D::sphere(0, 0, 0.25, 2);
 const std::vector<SignedPrimitive> kCuts = {halfspace(0.25, true), halfspace(0.25, false)};
-
 
 TEST(HiddenTrim, ADomesHiddenLowerHalfUnderItsPlateGoes) {
   const Node3D dome = Node3D::op(NodeKind::Difference,

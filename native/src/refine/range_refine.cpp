@@ -11,7 +11,7 @@ namespace csgfit {
 
 namespace {
 
-constexpr double kUnits = 64;  // graded counts: a sample wholly wrong counts 64
+constexpr double kUnits = EvidenceSamples::kUnitsPerSample;
 constexpr double kHiddenUnits = 4;  // a hidden sample erased: a sixteenth of one seen
 
 // Signed distances of every leaf at every sample, cached so that moving one leaf re-evaluates

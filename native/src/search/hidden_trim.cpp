@@ -12,7 +12,6 @@ namespace csgfit {
 
 namespace {
 
-constexpr double kUnitsPerSample = 64;  // evidence_mismatch's units: a sample wholly wrong
 constexpr double kSeenSlack = 0.25;     // of the size weight: what a trim may change of the seen
 constexpr double kTrimShare = 0.05;     // of the tree's hidden volume: what a trim must take
 constexpr double kTargetShare = 0.01;   // ... and what each primitive it cuts must give up
@@ -48,9 +47,10 @@ class TrimScorer {
       leaves.push_back(static_cast<std::size_t>(n) < nodes_.size() ? nodes_[n].data() : extra->data());
     const std::vector<double>& d = composer_.compose(tree, leaves, points_.size());
     Reading r;
+    // The tree itself as the tree without its conjectured cuts: no hidden erasure is priced.
     r.seen = static_cast<double>(samples_.mismatch(d.data(), d.data()).total());
     for (std::size_t s = samples_.size(); s < d.size(); ++s)
-      if (d[s] > 0) r.seen += kUnitsPerSample * std::min(1.0, d[s] / depth_);
+      if (d[s] > 0) r.seen += EvidenceSamples::kUnitsPerSample * std::min(1.0, d[s] / depth_);
     for (std::size_t s = samples_.hidden_start(); s < samples_.size(); ++s) r.hidden += d[s] < 0;
     return r;
   }
@@ -86,9 +86,9 @@ Trim trim_by(const PrecedenceGraph& g, const SignedPrimitive& cut, TrimScorer& s
   trim.cut = scorer.distances(cut.primitive);
   const auto unseen_taking = [&](const PrecedenceGraph& t, double share) {
     const Reading r = scorer.read(t, &trim.cut);
-    const double taken = static_cast<double>(base.hidden) - static_cast<double>(r.hidden);
-    const bool ok = r.seen <= base.seen + slack && taken >= share * static_cast<double>(base.hidden);
-    return ok ? base.hidden - r.hidden : std::size_t{0};
+    const bool unseen = r.seen <= base.seen + slack;
+    const bool enough = static_cast<double>(r.hidden) <= (1 - share) * static_cast<double>(base.hidden);
+    return unseen && enough ? base.hidden - r.hidden : std::size_t{0};
   };
   std::vector<int> targets;
   for (std::size_t n = 0; n < g.nodes.size(); ++n)

@@ -18,6 +18,9 @@ namespace csgfit {
 /// signed distances themselves (the graph search, the pattern search's cache).
 class EvidenceSamples {
  public:
+  /// The mismatch's unit: a sample wholly wrong counts this much (the grading is finer).
+  static constexpr double kUnitsPerSample = 64;
+
   explicit EvidenceSamples(const RangeEvidence& evidence);
 
   const std::vector<Vec3>& points() const { return points_; }
