@@ -219,7 +219,8 @@ void snap_shapes(TreeEvaluator& ev, PrimitiveSet allowed, Attempt& attempt) {
 }
 
 // Positions and sizes to half pixels, one at a time, after every shape, angle and group had
-// its turn at the budget; what a group made equal stays as it is.
+// its turn at the budget, and only where they cost no pixel; what a group made equal stays as
+// it is.
 template <typename Attempt>
 void snap_round_numbers(TreeEvaluator& ev, const GroupSnapper& groups, Attempt& attempt) {
   constexpr DimensionField kFields[] = {DimensionField::CentreX, DimensionField::CentreY,
@@ -297,6 +298,8 @@ DesignSnaps snap_to_design_values(TreeEvaluator& ev, PrimitiveSet allowed, doubl
   GroupSnapper groups(ev, budget);
   groups.concentric();
   groups.equal_sizes();
+  // A round number is a convenience, not the design: it is taken only where it costs nothing.
+  budget = 0;
   snap_round_numbers(ev, groups, attempt);
   out.snapped += groups.snapped();
   return out;

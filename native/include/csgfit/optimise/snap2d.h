@@ -17,9 +17,10 @@ struct DesignSnaps {
 
 /// Rounds parameters to values a designer would type, where that costs (almost) nothing:
 /// ellipses with nearly equal axes become circles (if allowed), angles go to multiples of 15
-/// degrees, else whole degrees, positions and sizes to half pixels. Each change is kept only if
+/// degrees, else whole degrees, near-equal radii and sides one value. Each change is kept only if
 /// the mismatch grows by no more than what is left of `pixel_budget` (spent as it goes), except
 /// that an angle within 0.5 degrees of a multiple of 15 always snaps (its cost is reported).
+/// Last, positions and sizes go to half pixels wherever that changes no pixel.
 DesignSnaps snap_to_design_values(TreeEvaluator& evaluator, PrimitiveSet allowed,
                                   double pixel_budget);
 
