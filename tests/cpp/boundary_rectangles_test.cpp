@@ -7,6 +7,7 @@
 #include "csgfit/features/boundary_walls.h"
 #include "csgfit/model/tree2d.h"
 #include "csgfit/pipeline/fit_bitmap.h"
+#include "csgfit/seed/boundary_primitives.h"
 #include "csgfit/seed/boundary_rectangles.h"
 #include "csgfit/seed/greedy2d.h"
 
@@ -86,4 +87,22 @@ TEST(GreedyCover, BuildsATurnedCrossFromItsTwoBars) {
   missing.subtract(wrong);
   wrong.subtract(b);
   EXPECT_LT(static_cast<double>(wrong.count() + missing.count()), 0.01 * static_cast<double>(b.count()));
+}
+
+TEST(BoundaryRectangles, ReadAPlateAcrossTheHolesCutFromIt) {
+  // A turned plate with one hole on its edge and one inside: more than 3 % of the plate lies
+  // outside the shape, so only the holes' pixels let the plate be read.
+  const Primitive plate = Primitive::rectangle(62, 64, 70, 46, 30);
+  const Primitive edge_hole = Primitive::circle(62 - 35 * std::cos(0.5236), 64 - 35 * std::sin(0.5236), 12);
+  const Primitive inner_hole = Primitive::circle(70, 66, 8);
+  const Node part = Node::op(NodeKind::Difference,
+                             {Node::leaf(plate), Node::leaf(edge_hole), Node::leaf(inner_hole)});
+  const Bitmap b = render(part, 128, 128);
+  EXPECT_FALSE(holds(boundary_rectangles(b), plate));
+  Bitmap drilled(128, 128);
+  rasterize_into(edge_hole, drilled);
+  rasterize_into(inner_hole, drilled);
+  EXPECT_TRUE(holds(boundary_rectangles(b, 48, 0.03, &drilled), plate));
+  // boundary_primitives reads the holes' arcs first and so proposes the plate itself.
+  EXPECT_TRUE(holds(boundary_primitives(b, PrimitiveSet::all()).positives, plate));
 }

@@ -113,27 +113,17 @@ void boundary_triangles(const Bitmap& target, const std::vector<BoundaryLine>& l
   }
 }
 
-}  // namespace
-
-BoundaryPrimitives boundary_primitives(const Bitmap& target, const PrimitiveSet& allowed) {
-  BoundaryPrimitives out;
-  if (allowed.has(PrimitiveKind::Rectangle)) {
-    out.positives = boundary_rectangles(target);
-    // The background's rectangles are the slots and notches cut from the shape.
-    out.holes = boundary_rectangles(target.inverted(), 16);
-  }
-  const Contour contour = contour_of(target);  // read once, by every reading below
-  const std::vector<BoundaryLine> lines = boundary_lines(contour);
-  if (allowed.has(PrimitiveKind::Triangle)) boundary_triangles(target, lines, out);
-  const bool circles = allowed.has(PrimitiveKind::Circle), ellipses = allowed.has(PrimitiveKind::Ellipse);
-  if (!circles && !ellipses) return out;
+// The discs and holes the contour's arcs lie on, and its ellipses (a circle as a round
+// ellipse when only ellipses are allowed).
+void boundary_round(const Contour& contour, const std::vector<BoundaryLine>& lines, bool circles,
+                    bool ellipses, BoundaryPrimitives& out) {
   const std::vector<BoundaryArc> arcs = boundary_arcs(contour);
   for (const BoundaryArc& a : arcs) {
     const Primitive p = circles ? Primitive::circle(a.cx, a.cy, a.r)
                                 : Primitive::ellipse(a.cx, a.cy, a.r, a.r, 0);
     (a.hole ? out.holes : out.positives).push_back(p);
   }
-  if (!ellipses) return out;
+  if (!ellipses) return;
   for (const BoundaryEllipse& e : boundary_ellipses(contour, arcs, lines)) {
     // A circle read a little squashed is the circle already proposed.
     const bool seen = std::any_of(arcs.begin(), arcs.end(), [&](const BoundaryArc& a) {
@@ -142,6 +132,33 @@ BoundaryPrimitives boundary_primitives(const Bitmap& target, const PrimitiveSet&
     });
     if (!seen)
       (e.hole ? out.holes : out.positives).push_back(Primitive::ellipse(e.cx, e.cy, e.rx, e.ry, e.angle));
+  }
+}
+
+// The pixels the holes read so far cut from the shape.
+Bitmap drilled_by(const std::vector<Primitive>& holes, int width, int height) {
+  Bitmap out(width, height);
+  for (const Primitive& h : holes) rasterize_into(h, out);
+  return out;
+}
+
+}  // namespace
+
+BoundaryPrimitives boundary_primitives(const Bitmap& target, const PrimitiveSet& allowed) {
+  BoundaryPrimitives out;
+  const Contour contour = contour_of(target);  // read once, by every reading below
+  const std::vector<BoundaryLine> lines = boundary_lines(contour);
+  if (allowed.has(PrimitiveKind::Triangle)) boundary_triangles(target, lines, out);
+  const bool circles = allowed.has(PrimitiveKind::Circle), ellipses = allowed.has(PrimitiveKind::Ellipse);
+  if (circles || ellipses) boundary_round(contour, lines, circles, ellipses, out);
+  if (allowed.has(PrimitiveKind::Rectangle)) {
+    // Read last, so that a plate may span the holes its arcs and edges show.
+    const Bitmap drilled = drilled_by(out.holes, target.width(), target.height());
+    const std::vector<Primitive> plates = boundary_rectangles(target, 48, 0.03, &drilled);
+    out.positives.insert(out.positives.begin(), plates.begin(), plates.end());
+    // The background's rectangles are the slots and notches cut from the shape.
+    const std::vector<Primitive> slots = boundary_rectangles(target.inverted(), 16);
+    out.holes.insert(out.holes.begin(), slots.begin(), slots.end());
   }
   return out;
 }

@@ -62,8 +62,11 @@ struct Found {
 
 }  // namespace
 
-std::vector<Primitive> boundary_rectangles(const Bitmap& target, std::size_t limit, double excess) {
+std::vector<Primitive> boundary_rectangles(const Bitmap& target, std::size_t limit, double excess,
+                                           const Bitmap* drilled) {
   const std::vector<WallFamily> families = boundary_walls(target);
+  Bitmap plate = target;
+  if (drilled) plate |= *drilled;
   Bitmap drawn(target.width(), target.height());
   std::vector<Found> found;
   for (std::size_t f = 0; f < families.size(); ++f) {
@@ -76,7 +79,7 @@ std::vector<Primitive> boundary_rectangles(const Bitmap& target, std::size_t lim
       for (const Slab& b : across) {
         const double u = 0.5 * (a.lo + a.hi), v = 0.5 * (b.lo + b.hi);
         const Primitive r = Primitive::rectangle(u * c - v * s, u * s + v * c, a.hi - a.lo, b.hi - b.lo, fam.angle);
-        const Coverage cov = coverage(r, target, drawn, excess * r.area() + 2);
+        const Coverage cov = coverage(r, plate, drawn, excess * r.area() + 2);
         if (cov.area < 4 || static_cast<double>(cov.outside) > excess * static_cast<double>(cov.area)) continue;
         found.push_back({r, a, b, f});
       }
