@@ -5,106 +5,11 @@
 #include <vector>
 
 #include "refine/moves3d.h"
+#include "refine/least_squares.h"
 
 namespace csgfit {
 
 using Param = Moves3D::Param;
-
-namespace {
-
-// Solves the n x n system a x = b in place by Gaussian elimination with partial pivoting;
-// false when it is singular.
-bool solve(std::vector<double>& a, std::vector<double>& b, int n) {
-  for (int c = 0; c < n; ++c) {
-    int piv = c;
-    for (int r = c + 1; r < n; ++r)
-      if (std::fabs(a[r * n + c]) > std::fabs(a[piv * n + c])) piv = r;
-    if (!(std::fabs(a[piv * n + c]) > 1e-300)) return false;
-    if (piv != c) {
-      for (int k = 0; k < n; ++k) std::swap(a[c * n + k], a[piv * n + k]);
-      std::swap(b[c], b[piv]);
-    }
-    for (int r = c + 1; r < n; ++r) {
-      const double f = a[r * n + c] / a[c * n + c];
-      for (int k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
-      b[r] -= f * b[c];
-    }
-  }
-  for (int c = n - 1; c >= 0; --c) {
-    double v = b[c];
-    for (int k = c + 1; k < n; ++k) v -= a[c * n + k] * b[k];
-    b[c] = v / a[c * n + c];
-  }
-  return true;
-}
-
-double sum_squares(const Primitive3D& p, const std::vector<const Vec3*>& pts) {
-  double s = 0;
-  for (const Vec3* q : pts) {
-    const double d = p.signed_distance((*q)[0], (*q)[1], (*q)[2]);
-    s += d * d;
-  }
-  return s;
-}
-
-// Levenberg-Marquardt on one primitive's parameters against its samples.
-Primitive3D fit_to_points(const Primitive3D& start, const std::vector<const Vec3*>& pts, double voxel,
-                          int iterations) {
-  const Moves3D moves{voxel};
-  Param params[Moves3D::kMaxParams];
-  const int np = moves.params_of(start.kind, LocalOptOptions{}, params);
-  const std::size_t m = pts.size();
-  Primitive3D p = start;
-  double cost = sum_squares(p, pts);
-  double lambda = 1e-3;
-  const double eps = 0.01 * voxel;
-  std::vector<double> r(m), jac(m * static_cast<std::size_t>(np));
-  for (int it = 0; it < iterations && cost > 0; ++it) {
-    for (std::size_t i = 0; i < m; ++i) r[i] = p.signed_distance((*pts[i])[0], (*pts[i])[1], (*pts[i])[2]);
-    for (int j = 0; j < np; ++j) {
-      Primitive3D q = p;
-      moves.move(q, params[j], eps);
-      q.normalize();
-      for (std::size_t i = 0; i < m; ++i)
-        jac[i * np + j] = (q.signed_distance((*pts[i])[0], (*pts[i])[1], (*pts[i])[2]) - r[i]) / eps;
-    }
-    std::vector<double> jtj(static_cast<std::size_t>(np * np), 0.0), jtr(static_cast<std::size_t>(np), 0.0);
-    for (std::size_t i = 0; i < m; ++i)
-      for (int a = 0; a < np; ++a) {
-        const double ja = jac[i * np + a];
-        if (ja == 0) continue;
-        jtr[a] -= ja * r[i];
-        for (int b = 0; b < np; ++b) jtj[a * np + b] += ja * jac[i * np + b];
-      }
-    bool stepped = false;
-    for (int tries = 0; tries < 6 && !stepped; ++tries) {
-      std::vector<double> a = jtj, b = jtr;
-      for (int d = 0; d < np; ++d) a[d * np + d] += lambda * std::max(jtj[d * np + d], 1e-12);
-      if (!solve(a, b, np)) {
-        lambda *= 10;
-        continue;
-      }
-      Primitive3D q = p;
-      // Steps of at most two voxels per parameter: the linearisation holds no further.
-      for (int j = 0; j < np; ++j) moves.move(q, params[j], std::clamp(b[j], -2 * voxel, 2 * voxel));
-      q.normalize();
-      const double c = sum_squares(q, pts);
-      if (c < cost) {
-        p = q;
-        stepped = cost - c > 1e-9 * cost;
-        cost = c;
-        lambda = std::max(lambda / 3, 1e-9);
-        if (!stepped) return p;
-      } else {
-        lambda *= 4;
-      }
-    }
-    if (!stepped) break;
-  }
-  return p;
-}
-
-}  // namespace
 
 std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samples,
                               const SurfaceFitOptions3D& options) {
@@ -156,7 +61,9 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
       Param params[Moves3D::kMaxParams];
       const int np = Moves3D{}.params_of(ev.leaf(i).kind, LocalOptOptions{}, params);
       if (assigned[i].size() < static_cast<std::size_t>(3 * np)) continue;
-      const Primitive3D refined = fit_to_points(ev.leaf(i), assigned[i], voxel, options.iterations);
+      const Primitive3D refined = least_squares::fit_to_points(
+          Moves3D{voxel}, ev.leaf(i), assigned[i], voxel, options.iterations,
+          [](const Primitive3D& p, const Vec3& q) { return p.signed_distance(q[0], q[1], q[2]); });
       if (refined == ev.leaf(i)) continue;
       const Mismatch m = ev.try_leaf(i, refined);
       if (static_cast<double>(m.total()) > ceiling) continue;

@@ -1,23 +1,19 @@
 // Least-squares refinement of a 3D tree's primitives against points of the input's surface.
 #pragma once
 
-#include <chrono>
 #include <cstddef>
 #include <vector>
 
 #include "csgfit/eval/evaluator3d.h"
+#include "csgfit/refine/boundary_fit.h"
 
 namespace csgfit {
 
 /// Settings of refine_to_surface.
-struct SurfaceFitOptions3D {
-  int rounds = 3;              ///< sample re-assignments
-  int iterations = 8;          ///< Levenberg-Marquardt steps per primitive and round
-  double inlier = 1.5;         ///< samples further than this (voxels) from every primitive are ignored
+struct SurfaceFitOptions3D : BoundaryFitOptions {
   /// Refined primitives are kept while the voxel mismatch stays within this many voxels of
   /// what it was before the refinement (one allowance for all of them).
   double voxel_slack = 0;
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 /// Least-squares fit of every leaf to the input's surface samples (points on the mesh, in the
