@@ -11,10 +11,12 @@
 #include <string>
 
 #include "csgfit/eval/evaluator2d.h"
+#include "csgfit/features/boundary_curves.h"
 #include "csgfit/features/features2d.h"
 #include "optimize_last.h"
 #include "csgfit/optimise/prune.h"
 #include "csgfit/optimise/snap2d.h"
+#include "csgfit/refine/contour_fit2d.h"
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/seed/decompose2d.h"
 #include "csgfit/seed/boundary_primitives.h"
@@ -149,6 +151,12 @@ Candidate polish(Candidate best, const Bitmap& target, const FitOptions& options
   {
     TreeEvaluator ev(target, tree);
     optimize_leaves(ev, lo);
+    // The pattern search stops where no single step lowers the mismatch. A least-squares fit
+    // to the bitmap's sub-pixel contour puts each edge where the drawn edge was, and from
+    // there the pattern search often finds fewer mismatched pixels.
+    BoundaryFitOptions on_contour;
+    on_contour.deadline = lo.deadline;
+    if (refine_to_contour(ev, contour_of(target).points, on_contour) > 0) optimize_leaves(ev, lo);
     evaluations += ev.evaluations();
   }
   prune(tree, target, pb.k);
