@@ -28,7 +28,7 @@ void add_image_options(CLI::App& image, ImageArgs& a) {
   a.fit.primitives = "all";
   add_fit_args(image, a.fit,
                {"PNG, JPEG, BMP, PGM/PBM or TGA image", "output: .scad, .json, .FCStd or .step",
-                "size weight per primitive (default: 25 at 128 x 128, scaled to the area)",
+                "size weight per primitive (default: 11 at 128 x 128, scaled to the area)",
                 "comma-separated: rectangle,circle,ellipse,triangle (or all)",
                 "OpenSCAD $fn for circles and ellipses", "no progress bar and no summary"});
   image.add_option("--quality", a.quality, "fast, default or best")

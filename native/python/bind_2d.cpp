@@ -194,7 +194,7 @@ void bind_2d(py::module_& m) {
         "The text of a .json file, read under the documents' size limit.");
   m.def("default_k", &csgfit::default_k, py::arg("width"), py::arg("height"),
         py::arg("k_at_128") = csgfit::SearchParams{}.k_at_128,
-        "Size weight k used when none is given: k_at_128 (10; the paper's preset 25) at "
+        "Size weight k used when none is given: k_at_128 (11; the paper's preset 25) at "
         "128 x 128, scaled to the pixel count.");
 }
 

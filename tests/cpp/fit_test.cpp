@@ -71,7 +71,7 @@ TEST(Fit, AllForegroundIsOneRectangle) {
 TEST(Fit, SizeWeightFollowsTheImageAreaAndThePreset) {
   Bitmap half(128, 64);
   half.fill();
-  EXPECT_DOUBLE_EQ(fit_bitmap(half, quick()).stats.k, 5);
+  EXPECT_DOUBLE_EQ(fit_bitmap(half, quick()).stats.k, SearchParams{}.k_at_128 / 2);
   FitOptions paper = quick();
   paper.search = SearchParams::for_quality("paper");
   EXPECT_DOUBLE_EQ(fit_bitmap(half, paper).stats.k, 12.5);

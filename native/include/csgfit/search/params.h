@@ -49,7 +49,7 @@ struct SearchParams {
   /// The size weight k of a 128 x 128 image when none is given (default_k scales it to the
   /// pixel count). The paper's Table 2 has 25; at 10 every 2D benchmark category fits closer
   /// than potrace with under half its numbers (docs/ALGORITHMS.md).
-  double k_at_128 = 10;
+  double k_at_128 = 11;
 
   static SearchParams paper();
   /// The 3D voxel search: one tree per island, 4 perturbations a generation, the best tree to
