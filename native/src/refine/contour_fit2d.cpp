@@ -1,10 +1,12 @@
 #include "csgfit/refine/contour_fit2d.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <vector>
 
-#include "refine/moves2d.h"
 #include "refine/least_squares.h"
+#include "refine/moves2d.h"
 
 namespace csgfit {
 
@@ -64,8 +66,8 @@ std::size_t refine_to_contour(TreeEvaluator& ev, const std::vector<ContourPoint>
       Moves2D::Param params[Moves2D::kMaxParams];
       const int np = Moves2D::params_of(ev.leaf(i).kind, LocalOptOptions{}, params);
       if (assigned[i].size() < static_cast<std::size_t>(3 * np)) continue;
-      const Primitive refined = least_squares::fit_to_points(Moves2D{}, ev.leaf(i), assigned[i], 1.0,
-                                                          options.iterations, residual);
+      const Primitive refined = least_squares::fit_to_points(Moves2D{}, ev.leaf(i), assigned[i],
+                                                             1.0, options.iterations, residual);
       if (refined == ev.leaf(i)) continue;
       if (ev.try_leaf(i, refined).total() > ev.mismatch().total()) continue;
       ev.leaf(i) = refined;
