@@ -110,6 +110,21 @@ TEST(Evaluator3D, StaggeredLatticeSeesASheetBetweenRowsOfCentres) {
   EXPECT_EQ(TreeEvaluator3D(target, staggered, slit).mismatch().uncovered, 11u * 11);
 }
 
+TEST(Evaluator3D, SurfaceLeafIsThePrimitiveThatMakesTheSurface) {
+  // A plate with a bore: on the plate's faces the plate, on the bore's wall the bore (the
+  // difference's negative), outside next to the plate the plate.
+  Node3D part = Node3D::op(NodeKind::Difference,
+                           {Node3D::leaf(Primitive3D::box(10, 10, 10, 12, 12, 4)),
+                            Node3D::leaf(Primitive3D::cylinder(10, 10, 10, 2, 10))});
+  TreeEvaluator3D ev(kFrame, part);
+  EXPECT_EQ(ev.surface_leaf(10, 6, 12), 0u);
+  double d = 0;
+  EXPECT_EQ(ev.surface_leaf(16.5, 10, 10, &d), 0u);
+  EXPECT_NEAR(d, 0.5, 1e-12);
+  EXPECT_EQ(ev.surface_leaf(12, 10, 10), 1u);
+  EXPECT_EQ(ev.surface_leaf(11.5, 10, 10), 1u);  // in the bore: its wall is nearest
+}
+
 TEST(Tree3D, SignedDistanceSignAgreesWithContains) {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> px(-1, 19), py(0.5, 18.5), pz(2, 18);

@@ -91,18 +91,35 @@ Mismatch TreeEvaluator3D::try_without_leaf(std::size_t i) {
   return staggered_ ? m + staggered_->try_without_leaf(i) : m;
 }
 
-double TreeEvaluator3D::signed_distance(int slot, double x, double y, double z) const {
+double TreeEvaluator3D::signed_distance(int slot, double x, double y, double z, int& from) const {
   const Slot& s = this->slot(slot);
+  from = slot;
   if (s.primitive) return s.primitive->signed_distance(x, y, z);
   if (s.children.empty()) return std::numeric_limits<double>::infinity();
-  double d = signed_distance(s.children[0], x, y, z);
-  for (std::size_t c = 1; c < s.children.size(); ++c)
-    d = compose_distance(s.kind, d, signed_distance(s.children[c], x, y, z));
+  double d = signed_distance(s.children[0], x, y, z, from);
+  for (std::size_t c = 1; c < s.children.size(); ++c) {
+    int child_from = -1;
+    const double e = compose_distance(s.kind, d, signed_distance(s.children[c], x, y, z, child_from));
+    if (e != d) from = child_from;
+    d = e;
+  }
   return d;
 }
 
 double TreeEvaluator3D::signed_distance(double x, double y, double z) const {
-  return root() < 0 ? std::numeric_limits<double>::infinity() : signed_distance(root(), x, y, z);
+  int from = -1;
+  return root() < 0 ? std::numeric_limits<double>::infinity() : signed_distance(root(), x, y, z, from);
+}
+
+std::size_t TreeEvaluator3D::surface_leaf(double x, double y, double z, double* distance) const {
+  if (distance) *distance = std::numeric_limits<double>::infinity();
+  if (root() < 0) return leaf_count();
+  int from = -1;
+  const double d = signed_distance(root(), x, y, z, from);
+  if (distance) *distance = d;
+  for (std::size_t i = 0; i < leaf_count(); ++i)
+    if (leaf_slot(i) == from) return i;
+  return leaf_count();
 }
 
 bool TreeEvaluator3D::slot_bounds(int slot, int swap, const Primitive3D* replacement,

@@ -210,11 +210,19 @@ void polish(MeshFitResult& out, const TriangleMesh& local, const VoxelGrid& coar
   LocalOptOptions lo = LocalOptOptions::pattern(12, std::max(1.0, 0.5 * ratio), 0.25);
   lo.deadline = deadline;
   optimize_leaves(ev, lo);
+  // The pattern search judges by voxels alone and leaves a face anywhere between the rows of
+  // both lattices' centres; the samples put it back on the surface, now within the snaps'
+  // small allowance, so that what the pattern search gained stays.
+  SurfaceFitOptions3D settle = sf;
+  settle.voxel_slack = snap_slack;
+  refine_to_surface(ev, samples, settle);
   snap_to_design_values(ev, snap_slack);
   // Last, the faces onto the input's own planes: exact dimensions, and faces that several
-  // primitives share become one plane. Within a third of a voxel: the voxels cannot tell.
+  // primitives share become one plane. Within 0.6 voxel, the widest gap between the two
+  // lattices' rows: anywhere inside it the voxels cannot tell, and a face left there is a
+  // whole layer of voxels on a lattice that happens to have its rows in the gap.
   const double h = grid.voxel_size();
-  snap_to_planes(ev, axis_planes(local, 0.01 * h, 4 * h * h), h / 3, snap_slack);
+  snap_to_planes(ev, axis_planes(local, 0.01 * h, 4 * h * h), 0.6 * h, snap_slack);
   FitStats& s = out.fit.stats;
   // Both lattices' counts: the IoU of the two samplings pooled, and k doubled to match.
   const std::size_t search_evaluations = s.evaluations;

@@ -73,9 +73,13 @@ class TreeEvaluator3D : public EvaluationTape<VoxelTape> {
   /// The tree's signed distance at a point, composed as signed_distance(const Node3D&, ...)
   /// does, with the leaves as they are now.
   double signed_distance(double x, double y, double z) const;
+  /// The leaf whose surface that distance comes from: the primitive that makes the tree's
+  /// boundary there (leaf_count() for an empty tree); the distance itself in `distance`.
+  std::size_t surface_leaf(double x, double y, double z, double* distance = nullptr) const;
 
  private:
-  double signed_distance(int slot, double x, double y, double z) const;
+  // `from` receives the slot of the primitive that gave the distance.
+  double signed_distance(int slot, double x, double y, double z, int& from) const;
   // Voxels of the tree's bounding box outside the grid, with leaf slot `swap` replaced by
   // `replacement` (or removed when replacement is null); swap = -1 for the tree as it is.
   std::size_t outside_voxels(int swap, const Primitive3D* replacement) const;

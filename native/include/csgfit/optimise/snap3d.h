@@ -18,7 +18,7 @@ namespace csgfit {
 std::size_t snap_to_design_values(TreeEvaluator3D& evaluator, double voxel_slack);
 
 /// Moves every axis-aligned planar face of a leaf (the six faces of a box, the end faces of a
-/// cylinder, cone or prism) onto the nearest of `planes` on its axis when that is within
+/// cylinder, cone or prism; aligned within half a degree) onto the nearest of `planes` on its axis when that is within
 /// `tolerance` (model units), while the voxel mismatch stays within `voxel_slack` of where it
 /// started (one allowance for all). The voxels only know a face to within half a voxel and the
 /// surface fit leaves faces a hair apart where several primitives share one; on the input's

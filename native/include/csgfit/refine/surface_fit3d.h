@@ -18,11 +18,12 @@ struct SurfaceFitOptions3D : BoundaryFitOptions {
 
 /// Least-squares fit of every leaf to the input's surface samples (points on the mesh, in the
 /// evaluator's grid coordinates), so that accuracy is not limited by the voxel size: each
-/// sample goes to the primitive whose surface is nearest (within `inlier` voxels), and each
-/// primitive's parameters (centre, free dimensions, turns, apex) take Levenberg-Marquardt steps
-/// on the sum of its samples' squared signed distances. A refined primitive replaces the old
-/// one only if the voxel mismatch stays within `voxel_slack` of what it was at the start. Returns the
-/// number of primitives changed.
+/// sample within `inlier` voxels of the tree's surface goes to the primitive that makes the
+/// surface there (TreeEvaluator3D::surface_leaf), and each primitive's parameters (centre,
+/// free dimensions, turns, apex) take Levenberg-Marquardt steps on the sum of its samples'
+/// squared signed distances. A refined primitive replaces the old one only if the voxel
+/// mismatch stays within `voxel_slack` of the best seen. Returns the number of primitives
+/// changed.
 std::size_t refine_to_surface(TreeEvaluator3D& evaluator, const std::vector<Vec3>& samples,
                               const SurfaceFitOptions3D& options = {});
 
