@@ -32,7 +32,7 @@ void add_mesh_options(CLI::App& mesh, MeshArgs& a) {
   add_fit_args(mesh, a.fit,
                {"STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid",
                 "output: .scad, .json, .step or .FCStd",
-                "size weight per primitive in voxels (default: 200 per million grid voxels)",
+                "size weight per primitive in voxels (default: 140 per million grid voxels)",
                 "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism (or all)",
                 "OpenSCAD $fn for round primitives", "no progress bar, warnings or summary"});
   mesh.add_option("--resolution", a.resolution,

@@ -22,8 +22,8 @@ VoxelGrid box_minus_cylinder() {
 }  // namespace
 
 TEST(Fit3D, DefaultKScalesWithTheGrid) {
-  EXPECT_DOUBLE_EQ(default_k3d(VoxelGrid(100, 100, 100)), 200);
-  EXPECT_DOUBLE_EQ(default_k3d(VoxelGrid(200, 100, 100)), 400);
+  EXPECT_DOUBLE_EQ(default_k3d(VoxelGrid(100, 100, 100)), 140);
+  EXPECT_DOUBLE_EQ(default_k3d(VoxelGrid(200, 100, 100)), 280);
   EXPECT_DOUBLE_EQ(default_k3d(VoxelGrid(10, 10, 10)), 8);
 }
 

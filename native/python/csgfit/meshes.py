@@ -82,7 +82,7 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
         frame (the directions of its largest planar faces) and polished against its surface.
     time: wall-time budget in seconds (the search stops earlier when it converges).
     threads: 0 = all cores. seed: same seed and threads, same tree (when it converges).
-    k: size weight per primitive in voxels; None = 200 per million grid voxels.
+    k: size weight per primitive in voxels; None = 140 per million grid voxels.
     primitives: list or comma-separated names of PRIMITIVE_TYPES_3D, or "all"; boxes are
         required. Default: all but the torus.
     progress / cancel: as for fit_image (cancel stops the fit within a fraction of a second and

@@ -21,7 +21,7 @@ namespace csgfit {
 
 double default_k3d(const VoxelGrid& target) {
   const double n = static_cast<double>(target.nx()) * target.ny() * target.nz();
-  return std::max(8.0, 200.0 * n / 1e6);
+  return std::max(8.0, 140.0 * n / 1e6);
 }
 
 using Clock = std::chrono::steady_clock;
