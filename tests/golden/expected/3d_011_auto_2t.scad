@@ -12,36 +12,34 @@ cyl_r = 0.2583; // [0:0.01:20]
 
 /* [Cylinder 1] */
 cyl_1_cx = -0.0008; // [-20:0.01:20]
-cyl_1_cy = -0.0002; // [-20:0.01:20]
-cyl_1_cz = 0.0156; // [-20:0.01:20]
+cyl_1_cy = 0; // [-20:0.01:20]
+cyl_1_cz = 0.0112; // [-20:0.01:20]
 cyl_1_rot_y = 180; // [-180:0.1:180]
-cyl_1_h = 9.4818; // [0:0.01:20]
+cyl_1_h = 9.4906; // [0:0.01:20]
 
 /* [Cylinder 2] */
 cyl_2_cx = -0.0008; // [-20:0.01:20]
-cyl_2_cy = -0.0002; // [-20:0.01:20]
-cyl_2_cz = -0.2562; // [-20:0.01:20]
+cyl_2_cy = 0; // [-20:0.01:20]
+cyl_2_cz = -0.239; // [-20:0.01:20]
 cyl_2_rot_y = 180; // [-180:0.1:180]
-cyl_2_h = 9.4877; // [0:0.01:20]
+cyl_2_h = 9.5219; // [0:0.01:20]
 
 /* [Cylinder 3] */
 cyl_3_cx = -0.0008; // [-20:0.01:20]
-cyl_3_cy = -0.0002; // [-20:0.01:20]
+cyl_3_cy = 0; // [-20:0.01:20]
 cyl_3_cz = 4.7438; // [-20:0.01:20]
 cyl_3_rot_y = 180; // [-180:0.1:180]
 cyl_3_r = 0.419; // [0:0.01:20]
 cyl_3_h = 0.5123; // [0:0.01:20]
 
 /* [Ellipsoid 4] */
-ellipsoid_4_cx = 0; // [-20:0.01:20]
-ellipsoid_4_cy = 0.0013; // [-20:0.01:20]
-ellipsoid_4_cz = 4.7823; // [-20:0.01:20]
-ellipsoid_4_rot_x = 38.598636; // [-180:0.1:180]
-ellipsoid_4_rot_y = -86.687676; // [-180:0.1:180]
-ellipsoid_4_rot_z = -47.433625; // [-180:0.1:180]
-ellipsoid_4_rx = 0.8753; // [0:0.01:20]
-ellipsoid_4_ry = 0.2338; // [0:0.01:20]
-ellipsoid_4_rz = 0.2357; // [0:0.01:20]
+ellipsoid_4_cx = -0.0001; // [-20:0.01:20]
+ellipsoid_4_cy = 0.0031; // [-20:0.01:20]
+ellipsoid_4_cz = 4.7537; // [-20:0.01:20]
+ellipsoid_4_rot_y = -90; // [-180:0.1:180]
+ellipsoid_4_rx = 1.1419; // [0:0.01:20]
+ellipsoid_4_ry = 0.235; // [0:0.01:20]
+ellipsoid_4_rz = 0.2367; // [0:0.01:20]
 
 /* [Hidden] */
 $fn = segments;
@@ -66,7 +64,7 @@ module csg_high_res() {
     translate([cyl_2_cx, cyl_2_cy, cyl_2_cz]) rotate([0, cyl_2_rot_y, 0]) cylinder(h = cyl_2_h, r = fn_r(cyl_r), center = true);
     difference() {
       translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) rotate([0, cyl_3_rot_y, 0]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
-      translate([ellipsoid_4_cx, ellipsoid_4_cy, ellipsoid_4_cz]) rotate([ellipsoid_4_rot_x, ellipsoid_4_rot_y, ellipsoid_4_rot_z]) scale([ellipsoid_4_rx, ellipsoid_4_ry, ellipsoid_4_rz]) sphere(r = fn_sr(1));
+      translate([ellipsoid_4_cx, ellipsoid_4_cy, ellipsoid_4_cz]) rotate([0, ellipsoid_4_rot_y, 0]) scale([ellipsoid_4_rx, ellipsoid_4_ry, ellipsoid_4_rz]) sphere(r = fn_sr(1));
     }
   }
 }

@@ -8,160 +8,159 @@ segments = 64; // [12:1:360]
 
 /* [Shared dimensions] */
 // radius of cylinders 3 and 8
-cyl_r = 1.0211; // [0:0.01:20]
+cyl_r = 0.9698; // [0:0.01:50]
 // radius of cylinders 7 and 9
-cyl_r2 = 0.7856; // [0:0.01:20]
+cyl_r2 = 0.7457; // [0:0.01:50]
 // radius of cylinders 15 and 16
-hole_r = 0.4281; // [0:0.01:20]
+hole_r = 0.4281; // [0:0.01:50]
 // height of cylinders 3 and 8
-cyl_h = 1.7391; // [0:0.01:20]
-// height of cylinders 7 and 16
-cyl_h2 = 2.2981; // [0:0.01:20]
+cyl_h = 1.7391; // [0:0.01:50]
 
 /* [Box 1] */
-box_1_cx = -0.0113; // [-20:0.01:20]
-box_1_cy = -0.5628; // [-20:0.01:20]
-box_1_cz = 0.0034; // [-20:0.01:20]
-box_1_rot_x = -174.703739; // [-180:0.1:180]
-box_1_rot_y = 88.217196; // [-180:0.1:180]
-box_1_rot_z = -84.724796; // [-180:0.1:180]
-box_1_size_x = 3.1388; // [0:0.01:20]
-box_1_size_y = 8.8285; // [0:0.01:20]
-box_1_size_z = 8.4246; // [0:0.01:20]
+box_1_cx = 0; // [-50:0.01:50]
+box_1_cy = -0.5714; // [-50:0.01:50]
+box_1_cz = 0.0497; // [-50:0.01:50]
+box_1_rot_y = 90; // [-180:0.1:180]
+box_1_rot_z = 90; // [-180:0.1:180]
+box_1_size_x = 3.0435; // [0:0.01:50]
+box_1_size_y = 8.8075; // [0:0.01:50]
+box_1_size_z = 8.4348; // [0:0.01:50]
 
 /* [Cone 2] */
-cone_2_cx = -0.0001; // [-20:0.01:20]
-cone_2_cy = -0.7081; // [-20:0.01:20]
-cone_2_cz = 0.2778; // [-20:0.01:20]
-cone_2_rot_x = -90; // [-180:0.1:180]
-cone_2_r1 = 3.6735; // [0:0.01:20]
-cone_2_r2 = 3.6778; // [0:0.01:20]
-cone_2_h = 7.3665; // [0:0.01:20]
+cone_2_cx = 0.0007; // [-50:0.01:50]
+cone_2_cy = -0.6674; // [-50:0.01:50]
+cone_2_cz = 0.3585; // [-50:0.01:50]
+cone_2_rot_x = -86.964215; // [-180:0.1:180]
+cone_2_rot_y = 178.935025; // [-180:0.1:180]
+cone_2_r1 = 3.6921; // [0:0.01:50]
+cone_2_r2 = 3.7744; // [0:0.01:50]
+cone_2_h = 7.4767; // [0:0.01:50]
 
 /* [Cylinder 3] */
-cyl_3_cx = 3.6216; // [-20:0.01:20]
-cyl_3_cy = -0.7387; // [-20:0.01:20]
-cyl_3_cz = -1.0994; // [-20:0.01:20]
+cyl_3_cx = 3.5541; // [-50:0.01:50]
+cyl_3_cy = -0.7384; // [-50:0.01:50]
+cyl_3_cz = -1.0994; // [-50:0.01:50]
 
 /* [Prism 4] */
-prism_4_cx = 0.0177; // [-20:0.01:20]
-prism_4_cy = -2.2917; // [-20:0.01:20]
-prism_4_cz = -1.8624; // [-20:0.01:20]
-prism_4_rot_x = -90.808986; // [-180:0.1:180]
-prism_4_rot_y = 81.376881; // [-180:0.1:180]
-prism_4_rot_z = -90.777893; // [-180:0.1:180]
-prism_4_w = 0.8607; // [0:0.01:20]
-prism_4_h = 4.938; // [0:0.01:20]
-prism_4_depth = 7.4481; // [0:0.01:20]
-prism_4_apex = -1.09274; // [-4:0.01:4]
+prism_4_cx = 0; // [-50:0.01:50]
+prism_4_cy = -2.0108; // [-50:0.01:50]
+prism_4_cz = -1.3149; // [-50:0.01:50]
+prism_4_rot_x = 91.255034; // [-180:0.1:180]
+prism_4_rot_y = 86.030905; // [-180:0.1:180]
+prism_4_rot_z = 91.371902; // [-180:0.1:180]
+prism_4_w = 0.8149; // [0:0.01:50]
+prism_4_h = 5.7751; // [0:0.01:50]
+prism_4_depth = 7.4161; // [0:0.01:50]
+prism_4_apex = 1.775753; // [-4:0.01:4]
 
 /* [Prism 5] */
-prism_5_cx = 3.2202; // [-20:0.01:20]
-prism_5_cy = 1.5863; // [-20:0.01:20]
-prism_5_cz = -1.2928; // [-20:0.01:20]
-prism_5_rot_x = 89.471965; // [-180:0.1:180]
-prism_5_rot_y = 11.612247; // [-180:0.1:180]
-prism_5_rot_z = 177.752671; // [-180:0.1:180]
-prism_5_w = 0.9733; // [0:0.01:20]
-prism_5_h = 1.3464; // [0:0.01:20]
-prism_5_depth = 3.9084; // [0:0.01:20]
-prism_5_apex = 0.735714; // [-4:0.01:4]
+prism_5_cx = 3.2694; // [-50:0.01:50]
+prism_5_cy = 1.842; // [-50:0.01:50]
+prism_5_cz = -1.368; // [-50:0.01:50]
+prism_5_rot_x = 90; // [-180:0.1:180]
+prism_5_rot_z = 180; // [-180:0.1:180]
+prism_5_w = 1.1187; // [0:0.01:50]
+prism_5_h = 1.197; // [0:0.01:50]
+prism_5_depth = 3.6079; // [0:0.01:50]
+prism_5_apex = 0.727809; // [-4:0.01:4]
 
 /* [Cone 6] */
-cone_6_cx = -3.2222; // [-20:0.01:20]
-cone_6_cy = -0.214; // [-20:0.01:20]
-cone_6_cz = -1.5492; // [-20:0.01:20]
-cone_6_rot_x = 90; // [-180:0.1:180]
-cone_6_r1 = 0.4686; // [0:0.01:20]
-cone_6_r2 = 0.5071; // [0:0.01:20]
-cone_6_h = 6.3784; // [0:0.01:20]
+cone_6_cx = -3.2206; // [-50:0.01:50]
+cone_6_cy = -0.2468; // [-50:0.01:50]
+cone_6_cz = -1.5343; // [-50:0.01:50]
+cone_6_rot_x = 89.57719; // [-180:0.1:180]
+cone_6_rot_y = 53.488218; // [-180:0.1:180]
+cone_6_r1 = 0.5058; // [0:0.01:50]
+cone_6_r2 = 0.5059; // [0:0.01:50]
+cone_6_h = 7.7856; // [0:0.01:50]
 
 /* [Cylinder 7] */
-cyl_7_cx = 3.6216; // [-20:0.01:20]
-cyl_7_cy = -0.7387; // [-20:0.01:20]
-cyl_7_cz = 0.4224; // [-20:0.01:20]
+cyl_7_cx = 3.6031; // [-50:0.01:50]
+cyl_7_cy = -0.7012; // [-50:0.01:50]
+cyl_7_cz = 0.236; // [-50:0.01:50]
 cyl_7_rot_y = 180; // [-180:0.1:180]
+cyl_7_h = 2.6708; // [0:0.01:50]
 
 /* [Cylinder 8] */
-cyl_8_cx = -3.6185; // [-20:0.01:20]
-cyl_8_cy = -0.7043; // [-20:0.01:20]
-cyl_8_cz = -1.0994; // [-20:0.01:20]
+cyl_8_cx = -3.5557; // [-50:0.01:50]
+cyl_8_cy = -0.6988; // [-50:0.01:50]
+cyl_8_cz = -1.0994; // [-50:0.01:50]
 
 /* [Cylinder 9] */
-cyl_9_cx = -3.6764; // [-20:0.01:20]
-cyl_9_cy = -0.7021; // [-20:0.01:20]
-cyl_9_cz = 0.5012; // [-20:0.01:20]
-cyl_9_rot_x = -4.165042; // [-180:0.1:180]
-cyl_9_rot_y = 175.985443; // [-180:0.1:180]
-cyl_9_h = 2.0943; // [0:0.01:20]
+cyl_9_cx = -3.6031; // [-50:0.01:50]
+cyl_9_cy = -0.7017; // [-50:0.01:50]
+cyl_9_cz = 0.6708; // [-50:0.01:50]
+cyl_9_rot_y = 180; // [-180:0.1:180]
+cyl_9_h = 1.8012; // [0:0.01:50]
 
 /* [Box 10] */
-box_10_cx = 0.0032; // [-20:0.01:20]
-box_10_cy = 3.8745; // [-20:0.01:20]
-box_10_cz = -0.2356; // [-20:0.01:20]
-box_10_rot_x = -1.089496; // [-180:0.1:180]
-box_10_rot_y = 16.582417; // [-180:0.1:180]
-box_10_rot_z = -88.584669; // [-180:0.1:180]
-box_10_size_x = 1.4553; // [0:0.01:20]
-box_10_size_y = 2.3629; // [0:0.01:20]
-box_10_size_z = 0.8044; // [0:0.01:20]
+box_10_cx = -0.0598; // [-50:0.01:50]
+box_10_cy = 3.9249; // [-50:0.01:50]
+box_10_cz = -0.2595; // [-50:0.01:50]
+box_10_rot_x = -2.651444; // [-180:0.1:180]
+box_10_rot_y = 18.769844; // [-180:0.1:180]
+box_10_rot_z = -91.800236; // [-180:0.1:180]
+box_10_size_x = 1.7881; // [0:0.01:50]
+box_10_size_y = 2.4125; // [0:0.01:50]
+box_10_size_z = 0.7143; // [0:0.01:50]
 
 /* [Ellipsoid 11] */
-ellipsoid_11_cx = 1.6276; // [-20:0.01:20]
-ellipsoid_11_cy = 3.9403; // [-20:0.01:20]
-ellipsoid_11_cz = 0.6332; // [-20:0.01:20]
-ellipsoid_11_rot_x = 51.514754; // [-180:0.1:180]
-ellipsoid_11_rot_y = 26.340035; // [-180:0.1:180]
-ellipsoid_11_rot_z = -90.158969; // [-180:0.1:180]
-ellipsoid_11_rx = 0.8779; // [0:0.01:20]
-ellipsoid_11_ry = 1.2068; // [0:0.01:20]
-ellipsoid_11_rz = 0.3854; // [0:0.01:20]
+ellipsoid_11_cx = 1.687; // [-50:0.01:50]
+ellipsoid_11_cy = 3.9072; // [-50:0.01:50]
+ellipsoid_11_cz = 0.7061; // [-50:0.01:50]
+ellipsoid_11_rot_x = 43.862509; // [-180:0.1:180]
+ellipsoid_11_rot_y = 54.455312; // [-180:0.1:180]
+ellipsoid_11_rot_z = -109.198917; // [-180:0.1:180]
+ellipsoid_11_rx = 1.1124; // [0:0.01:50]
+ellipsoid_11_ry = 1.0835; // [0:0.01:50]
+ellipsoid_11_rz = 0.3976; // [0:0.01:50]
 
 /* [Ellipsoid 12] */
-ellipsoid_12_cx = -1.8069; // [-20:0.01:20]
-ellipsoid_12_cy = 3.7858; // [-20:0.01:20]
-ellipsoid_12_cz = 0.6715; // [-20:0.01:20]
-ellipsoid_12_rot_x = -71.607273; // [-180:0.1:180]
-ellipsoid_12_rot_y = -66.849453; // [-180:0.1:180]
-ellipsoid_12_rot_z = 130.186081; // [-180:0.1:180]
-ellipsoid_12_rx = 1.1872; // [0:0.01:20]
-ellipsoid_12_ry = 0.4263; // [0:0.01:20]
-ellipsoid_12_rz = 1.2429; // [0:0.01:20]
+ellipsoid_12_cx = -1.762; // [-50:0.01:50]
+ellipsoid_12_cy = 3.8582; // [-50:0.01:50]
+ellipsoid_12_cz = 0.7235; // [-50:0.01:50]
+ellipsoid_12_rot_x = -26.939721; // [-180:0.1:180]
+ellipsoid_12_rot_y = -34.26543; // [-180:0.1:180]
+ellipsoid_12_rot_z = 80.202288; // [-180:0.1:180]
+ellipsoid_12_rx = 1.1291; // [0:0.01:50]
+ellipsoid_12_ry = 0.3869; // [0:0.01:50]
+ellipsoid_12_rz = 1.0947; // [0:0.01:50]
 
 /* [Box 13] */
-box_13_cx = -4.1073; // [-20:0.01:20]
-box_13_cy = -0.6347; // [-20:0.01:20]
-box_13_cz = -2.0093; // [-20:0.01:20]
-box_13_rot_x = -90.137364; // [-180:0.1:180]
-box_13_rot_y = 0.642237; // [-180:0.1:180]
-box_13_rot_z = -108.532367; // [-180:0.1:180]
-box_13_size_x = 1.5867; // [0:0.01:20]
-box_13_size_y = 2.5618; // [0:0.01:20]
-box_13_size_z = 2.4329; // [0:0.01:20]
+box_13_cx = -3.7733; // [-50:0.01:50]
+box_13_cy = -0.6733; // [-50:0.01:50]
+box_13_cz = -2.4253; // [-50:0.01:50]
+box_13_rot_x = -91.784995; // [-180:0.1:180]
+box_13_rot_y = 1.366812; // [-180:0.1:180]
+box_13_rot_z = -106.074271; // [-180:0.1:180]
+box_13_size_x = 1.656; // [0:0.01:50]
+box_13_size_y = 3.4034; // [0:0.01:50]
+box_13_size_z = 1.7047; // [0:0.01:50]
 
 /* [Box 14] */
-box_14_cx = 3.7836; // [-20:0.01:20]
-box_14_cy = -0.6692; // [-20:0.01:20]
-box_14_cz = -1.5475; // [-20:0.01:20]
-box_14_rot_x = 179.672506; // [-180:0.1:180]
-box_14_rot_y = -0.140356; // [-180:0.1:180]
-box_14_rot_z = -5.640186; // [-180:0.1:180]
-box_14_size_x = 1.6961; // [0:0.01:20]
-box_14_size_y = 1.5208; // [0:0.01:20]
-box_14_size_z = 1.6363; // [0:0.01:20]
+box_14_cx = 6.3207; // [-50:0.01:50]
+box_14_cy = -1.1099; // [-50:0.01:50]
+box_14_cz = -1.2695; // [-50:0.01:50]
+box_14_rot_x = 179.286004; // [-180:0.1:180]
+box_14_rot_y = -1.034573; // [-180:0.1:180]
+box_14_rot_z = -9.514971; // [-180:0.1:180]
+box_14_size_x = 6.8428; // [0:0.01:50]
+box_14_size_y = 1.4854; // [0:0.01:50]
+box_14_size_z = 1.198; // [0:0.01:50]
 
 /* [Cylinder 15] */
-cyl_15_cx = 3.6216; // [-20:0.01:20]
-cyl_15_cy = -0.7387; // [-20:0.01:20]
-cyl_15_cz = -0.3811; // [-20:0.01:20]
+cyl_15_cx = 3.5541; // [-50:0.01:50]
+cyl_15_cy = -0.7384; // [-50:0.01:50]
+cyl_15_cz = -0.3974; // [-50:0.01:50]
 cyl_15_rot_y = 180; // [-180:0.1:180]
-cyl_15_h = 3.9051; // [0:0.01:20]
+cyl_15_h = 3.9377; // [0:0.01:50]
 
 /* [Cylinder 16] */
-cyl_16_cx = -3.6185; // [-20:0.01:20]
-cyl_16_cy = -0.7043; // [-20:0.01:20]
-cyl_16_cz = 0.4224; // [-20:0.01:20]
+cyl_16_cx = -3.6031; // [-50:0.01:50]
+cyl_16_cy = -0.7017; // [-50:0.01:50]
+cyl_16_cz = 0.8659; // [-50:0.01:50]
 cyl_16_rot_y = 180; // [-180:0.1:180]
+cyl_16_h = 3.1852; // [0:0.01:50]
 
 /* [Hidden] */
 $fn = segments;
@@ -184,16 +183,16 @@ module csg_high_res() {
   difference() {
     union() {
       difference() {
-        translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, box_1_rot_y, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-        translate([cone_2_cx, cone_2_cy, cone_2_cz]) rotate([cone_2_rot_x, 0, 0]) cylinder(h = cone_2_h, r1 = fn_r(cone_2_r1), r2 = fn_r(cone_2_r2), center = true);
+        translate([box_1_cx, box_1_cy, box_1_cz]) rotate([0, box_1_rot_y, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
+        translate([cone_2_cx, cone_2_cy, cone_2_cz]) rotate([cone_2_rot_x, cone_2_rot_y, 0]) cylinder(h = cone_2_h, r1 = fn_r(cone_2_r1), r2 = fn_r(cone_2_r2), center = true);
       }
       translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
       translate([prism_4_cx, prism_4_cy, prism_4_cz]) rotate([prism_4_rot_x, prism_4_rot_y, prism_4_rot_z]) linear_extrude(height = prism_4_depth, center = true) polygon([[-prism_4_w / 2, -prism_4_h / 2], [prism_4_w / 2, -prism_4_h / 2], [prism_4_apex * prism_4_w / 2, prism_4_h / 2]]);
-      translate([prism_5_cx, prism_5_cy, prism_5_cz]) rotate([prism_5_rot_x, prism_5_rot_y, prism_5_rot_z]) linear_extrude(height = prism_5_depth, center = true) polygon([[-prism_5_w / 2, -prism_5_h / 2], [prism_5_w / 2, -prism_5_h / 2], [prism_5_apex * prism_5_w / 2, prism_5_h / 2]]);
-      translate([cone_6_cx, cone_6_cy, cone_6_cz]) rotate([cone_6_rot_x, 0, 0]) cylinder(h = cone_6_h, r1 = fn_r(cone_6_r1), r2 = fn_r(cone_6_r2), center = true);
-      translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([0, cyl_7_rot_y, 0]) cylinder(h = cyl_h2, r = fn_r(cyl_r2), center = true);
+      translate([prism_5_cx, prism_5_cy, prism_5_cz]) rotate([prism_5_rot_x, 0, prism_5_rot_z]) linear_extrude(height = prism_5_depth, center = true) polygon([[-prism_5_w / 2, -prism_5_h / 2], [prism_5_w / 2, -prism_5_h / 2], [prism_5_apex * prism_5_w / 2, prism_5_h / 2]]);
+      translate([cone_6_cx, cone_6_cy, cone_6_cz]) rotate([cone_6_rot_x, cone_6_rot_y, 0]) cylinder(h = cone_6_h, r1 = fn_r(cone_6_r1), r2 = fn_r(cone_6_r2), center = true);
+      translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([0, cyl_7_rot_y, 0]) cylinder(h = cyl_7_h, r = fn_r(cyl_r2), center = true);
       translate([cyl_8_cx, cyl_8_cy, cyl_8_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
-      translate([cyl_9_cx, cyl_9_cy, cyl_9_cz]) rotate([cyl_9_rot_x, cyl_9_rot_y, 0]) cylinder(h = cyl_9_h, r = fn_r(cyl_r2), center = true);
+      translate([cyl_9_cx, cyl_9_cy, cyl_9_cz]) rotate([0, cyl_9_rot_y, 0]) cylinder(h = cyl_9_h, r = fn_r(cyl_r2), center = true);
       translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
       translate([ellipsoid_11_cx, ellipsoid_11_cy, ellipsoid_11_cz]) rotate([ellipsoid_11_rot_x, ellipsoid_11_rot_y, ellipsoid_11_rot_z]) scale([ellipsoid_11_rx, ellipsoid_11_ry, ellipsoid_11_rz]) sphere(r = fn_sr(1));
       translate([ellipsoid_12_cx, ellipsoid_12_cy, ellipsoid_12_cz]) rotate([ellipsoid_12_rot_x, ellipsoid_12_rot_y, ellipsoid_12_rot_z]) scale([ellipsoid_12_rx, ellipsoid_12_ry, ellipsoid_12_rz]) sphere(r = fn_sr(1));
@@ -201,7 +200,7 @@ module csg_high_res() {
     translate([box_13_cx, box_13_cy, box_13_cz]) rotate([box_13_rot_x, box_13_rot_y, box_13_rot_z]) cube([box_13_size_x, box_13_size_y, box_13_size_z], center = true);
     translate([box_14_cx, box_14_cy, box_14_cz]) rotate([box_14_rot_x, box_14_rot_y, box_14_rot_z]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);
     translate([cyl_15_cx, cyl_15_cy, cyl_15_cz]) rotate([0, cyl_15_rot_y, 0]) cylinder(h = cyl_15_h, r = fn_r(hole_r), center = true);
-    translate([cyl_16_cx, cyl_16_cy, cyl_16_cz]) rotate([0, cyl_16_rot_y, 0]) cylinder(h = cyl_h2, r = fn_r(hole_r), center = true);
+    translate([cyl_16_cx, cyl_16_cy, cyl_16_cz]) rotate([0, cyl_16_rot_y, 0]) cylinder(h = cyl_16_h, r = fn_r(hole_r), center = true);
   }
 }
 

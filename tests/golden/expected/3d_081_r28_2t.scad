@@ -7,128 +7,121 @@
 segments = 64; // [12:1:360]
 
 /* [Box 1] */
-box_1_cx = 0.0101; // [-100:0.01:100]
-box_1_cy = -0.0001; // [-100:0.01:100]
-box_1_cz = -0.0311; // [-100:0.01:100]
-box_1_rot_x = 1.681095; // [-180:0.1:180]
-box_1_rot_y = 1.786044; // [-180:0.1:180]
-box_1_rot_z = 0.043153; // [-180:0.1:180]
-box_1_size_x = 3.5048; // [0:0.01:100]
-box_1_size_y = 5.936; // [0:0.01:100]
-box_1_size_z = 9.9256; // [0:0.01:100]
+box_1_cx = -0.0001; // [-100:0.01:100]
+box_1_cy = 0.0001; // [-100:0.01:100]
+box_1_cz = 0.1091; // [-100:0.01:100]
+box_1_size_x = 3.5257; // [0:0.01:100]
+box_1_size_y = 5.9396; // [0:0.01:100]
+box_1_size_z = 10.2182; // [0:0.01:100]
 
 /* [Box 2] */
-box_2_cx = -0.9384; // [-100:0.01:100]
-box_2_cy = 0.0288; // [-100:0.01:100]
-box_2_cz = -3.1349; // [-100:0.01:100]
-box_2_rot_x = -90.163433; // [-180:0.1:180]
-box_2_rot_y = -13.214875; // [-180:0.1:180]
-box_2_rot_z = 90.075893; // [-180:0.1:180]
-box_2_size_x = 6.1853; // [0:0.01:100]
-box_2_size_y = 7.1052; // [0:0.01:100]
-box_2_size_z = 4.3324; // [0:0.01:100]
+box_2_cx = -1.3393; // [-100:0.01:100]
+box_2_cy = 0.1303; // [-100:0.01:100]
+box_2_cz = -3.1336; // [-100:0.01:100]
+box_2_rot_x = -90.1454; // [-180:0.1:180]
+box_2_rot_y = -13.696824; // [-180:0.1:180]
+box_2_rot_z = 90.056781; // [-180:0.1:180]
+box_2_size_x = 6.6674; // [0:0.01:100]
+box_2_size_y = 7.4731; // [0:0.01:100]
+box_2_size_z = 5.124; // [0:0.01:100]
 
 /* [Box 3] */
-box_3_cx = -0.1481; // [-100:0.01:100]
-box_3_cy = 0.0871; // [-100:0.01:100]
-box_3_cz = -1.0227; // [-100:0.01:100]
-box_3_rot_x = 0.074109; // [-180:0.1:180]
-box_3_rot_y = 0.212228; // [-180:0.1:180]
-box_3_rot_z = 7.268984; // [-180:0.1:180]
-box_3_size_x = 3.2844; // [0:0.01:100]
-box_3_size_y = 6.159; // [0:0.01:100]
-box_3_size_z = 1.3624; // [0:0.01:100]
+box_3_cx = -0.2701; // [-100:0.01:100]
+box_3_cy = 0.0001; // [-100:0.01:100]
+box_3_cz = -1.022; // [-100:0.01:100]
+box_3_size_x = 2.9856; // [0:0.01:100]
+box_3_size_y = 5.9396; // [0:0.01:100]
+box_3_size_z = 1.3715; // [0:0.01:100]
 
 /* [Ellipsoid 4] */
-ellipsoid_4_cx = -5.7039; // [-100:0.01:100]
-ellipsoid_4_cy = 0.5327; // [-100:0.01:100]
-ellipsoid_4_cz = -0.8219; // [-100:0.01:100]
-ellipsoid_4_rot_x = -3.95545; // [-180:0.1:180]
-ellipsoid_4_rot_y = 87.576612; // [-180:0.1:180]
-ellipsoid_4_rot_z = 171.391048; // [-180:0.1:180]
-ellipsoid_4_rx = 2.9116; // [0:0.01:100]
-ellipsoid_4_ry = 1.4687; // [0:0.01:100]
-ellipsoid_4_rz = 10.1153; // [0:0.01:100]
+ellipsoid_4_cx = -8.007; // [-100:0.01:100]
+ellipsoid_4_cy = 0.3755; // [-100:0.01:100]
+ellipsoid_4_cz = -0.7811; // [-100:0.01:100]
+ellipsoid_4_rot_x = 55.244883; // [-180:0.1:180]
+ellipsoid_4_rot_y = 87.614629; // [-180:0.1:180]
+ellipsoid_4_rot_z = -127.322732; // [-180:0.1:180]
+ellipsoid_4_rx = 2.0815; // [0:0.01:100]
+ellipsoid_4_ry = 1.7096; // [0:0.01:100]
+ellipsoid_4_rz = 11.4343; // [0:0.01:100]
 
-/* [Box 5] */
-box_5_cx = -1.0718; // [-100:0.01:100]
-box_5_cy = -0.0146; // [-100:0.01:100]
-box_5_cz = -0.6753; // [-100:0.01:100]
-box_5_size_x = 1.3823; // [0:0.01:100]
-box_5_size_y = 2.8279; // [0:0.01:100]
-box_5_size_z = 2.0649; // [0:0.01:100]
+/* [Prism 5] */
+prism_5_cx = 0.3782; // [-100:0.01:100]
+prism_5_cy = -1.0509; // [-100:0.01:100]
+prism_5_cz = 3.5693; // [-100:0.01:100]
+prism_5_rot_x = 86.723324; // [-180:0.1:180]
+prism_5_rot_y = 0.221298; // [-180:0.1:180]
+prism_5_rot_z = 59.400664; // [-180:0.1:180]
+prism_5_w = 27.1991; // [0:0.01:100]
+prism_5_h = 7.3816; // [0:0.01:100]
+prism_5_depth = 9.917; // [0:0.01:100]
+prism_5_apex = 0.052523; // [-4:0.01:4]
 
-/* [Prism 6] */
-prism_6_cx = 0.7678; // [-100:0.01:100]
-prism_6_cy = -0.837; // [-100:0.01:100]
-prism_6_cz = 3.5678; // [-100:0.01:100]
-prism_6_rot_x = 84.901688; // [-180:0.1:180]
-prism_6_rot_y = 0.532991; // [-180:0.1:180]
-prism_6_rot_z = 50.948806; // [-180:0.1:180]
-prism_6_w = 26.4848; // [0:0.01:100]
-prism_6_h = 7.3846; // [0:0.01:100]
-prism_6_depth = 9.2028; // [0:0.01:100]
-prism_6_apex = 0; // [-4:0.01:4]
+/* [Box 6] */
+box_6_cx = 1.4927; // [-100:0.01:100]
+box_6_cy = -0.0367; // [-100:0.01:100]
+box_6_cz = 2.2792; // [-100:0.01:100]
+box_6_rot_x = 1.018203; // [-180:0.1:180]
+box_6_rot_y = 0.147936; // [-180:0.1:180]
+box_6_rot_z = -0.020604; // [-180:0.1:180]
+box_6_size_x = 0.54; // [0:0.01:100]
+box_6_size_y = 5.9432; // [0:0.01:100]
+box_6_size_z = 5.0712; // [0:0.01:100]
 
 /* [Box 7] */
-box_7_cx = 1.4927; // [-100:0.01:100]
-box_7_cy = 0.3085; // [-100:0.01:100]
-box_7_cz = 2.4098; // [-100:0.01:100]
-box_7_size_x = 0.54; // [0:0.01:100]
-box_7_size_y = 6.5564; // [0:0.01:100]
-box_7_size_z = 5.4919; // [0:0.01:100]
+box_7_cx = -1.0718; // [-100:0.01:100]
+box_7_cy = 0.0298; // [-100:0.01:100]
+box_7_cz = -1.022; // [-100:0.01:100]
+box_7_size_x = 1.3823; // [0:0.01:100]
+box_7_size_y = 2.739; // [0:0.01:100]
+box_7_size_z = 1.3715; // [0:0.01:100]
 
 /* [Cylinder 8] */
-cyl_8_cx = -1.2593; // [-100:0.01:100]
-cyl_8_cy = -2.1392; // [-100:0.01:100]
-cyl_8_cz = -1.119; // [-100:0.01:100]
-cyl_8_rot_x = -20.314314; // [-180:0.1:180]
-cyl_8_rot_y = 87.685207; // [-180:0.1:180]
-cyl_8_r = 0.7923; // [0:0.01:100]
-cyl_8_h = 0.7443; // [0:0.01:100]
+cyl_8_cx = -1.3748; // [-100:0.01:100]
+cyl_8_cy = -2.3995; // [-100:0.01:100]
+cyl_8_cz = -1.0038; // [-100:0.01:100]
+cyl_8_rot_x = 14.446221; // [-180:0.1:180]
+cyl_8_rot_y = 86.046625; // [-180:0.1:180]
+cyl_8_r = 0.7822; // [0:0.01:100]
+cyl_8_h = 0.9023; // [0:0.01:100]
 
 /* [Box 9] */
-box_9_cx = -1.2265; // [-100:0.01:100]
-box_9_cy = 0.0137; // [-100:0.01:100]
-box_9_cz = -0.9764; // [-100:0.01:100]
-box_9_rot_x = -74.541649; // [-180:0.1:180]
-box_9_rot_y = 86.321316; // [-180:0.1:180]
-box_9_rot_z = 115.227903; // [-180:0.1:180]
-box_9_size_x = 1.5696; // [0:0.01:100]
-box_9_size_y = 1.4438; // [0:0.01:100]
-box_9_size_z = 1.2152; // [0:0.01:100]
+box_9_cx = -1.3368; // [-100:0.01:100]
+box_9_cy = 0.0149; // [-100:0.01:100]
+box_9_cz = -0.9937; // [-100:0.01:100]
+box_9_rot_x = -57.772656; // [-180:0.1:180]
+box_9_rot_y = 86.4389; // [-180:0.1:180]
+box_9_rot_z = 134.962016; // [-180:0.1:180]
+box_9_size_x = 1.5878; // [0:0.01:100]
+box_9_size_y = 1.4429; // [0:0.01:100]
+box_9_size_z = 1.1545; // [0:0.01:100]
 
 /* [Box 10] */
-box_10_cx = 1.4186; // [-100:0.01:100]
-box_10_cy = -1.601; // [-100:0.01:100]
-box_10_cz = 3.4434; // [-100:0.01:100]
-box_10_rot_x = -96.980672; // [-180:0.1:180]
-box_10_rot_y = -86.585711; // [-180:0.1:180]
-box_10_rot_z = 94.481967; // [-180:0.1:180]
-box_10_size_x = 3.4657; // [0:0.01:100]
-box_10_size_y = 2.8041; // [0:0.01:100]
-box_10_size_z = 0.5149; // [0:0.01:100]
+box_10_cx = 1.2302; // [-100:0.01:100]
+box_10_cy = -1.5952; // [-100:0.01:100]
+box_10_cz = 4.4137; // [-100:0.01:100]
+box_10_rot_y = -90; // [-180:0.1:180]
+box_10_size_x = 5.4138; // [0:0.01:100]
+box_10_size_y = 2.7491; // [0:0.01:100]
+box_10_size_z = 1.065; // [0:0.01:100]
 
 /* [Box 11] */
-box_11_cx = 1.4927; // [-100:0.01:100]
+box_11_cx = 1.0153; // [-100:0.01:100]
 box_11_cy = 0.5893; // [-100:0.01:100]
-box_11_cz = 2.7685; // [-100:0.01:100]
+box_11_cz = 2.7076; // [-100:0.01:100]
 box_11_rot_y = -90; // [-180:0.1:180]
 box_11_rot_z = -90; // [-180:0.1:180]
-box_11_size_x = 1.8463; // [0:0.01:100]
-box_11_size_y = 0.54; // [0:0.01:100]
+box_11_size_x = 2.0016; // [0:0.01:100]
+box_11_size_y = 1.4948; // [0:0.01:100]
 box_11_size_z = 0.54; // [0:0.01:100]
 
 /* [Box 12] */
-box_12_cx = 1.4074; // [-100:0.01:100]
-box_12_cy = 2.3728; // [-100:0.01:100]
-box_12_cz = 3.9768; // [-100:0.01:100]
-box_12_rot_x = 96.07578; // [-180:0.1:180]
-box_12_rot_y = -88.787401; // [-180:0.1:180]
-box_12_rot_z = -87.736974; // [-180:0.1:180]
-box_12_size_x = 4.5339; // [0:0.01:100]
-box_12_size_y = 2.0173; // [0:0.01:100]
-box_12_size_z = 0.6663; // [0:0.01:100]
+box_12_cx = 1.4927; // [-100:0.01:100]
+box_12_cy = 2.1846; // [-100:0.01:100]
+box_12_cz = 3.6854; // [-100:0.01:100]
+box_12_rot_y = -90; // [-180:0.1:180]
+box_12_size_x = 3.9571; // [0:0.01:100]
+box_12_size_y = 1.5706; // [0:0.01:100]
+box_12_size_z = 0.54; // [0:0.01:100]
 
 /* [Hidden] */
 $fn = segments;
@@ -149,26 +142,28 @@ function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
 
 module csg_high_res() {
   difference() {
-    translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, box_1_rot_y, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-    difference() {
-      translate([box_2_cx, box_2_cy, box_2_cz]) rotate([box_2_rot_x, box_2_rot_y, box_2_rot_z]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
+    union() {
       difference() {
-        translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
+        translate([box_1_cx, box_1_cy, box_1_cz]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
         difference() {
-          translate([ellipsoid_4_cx, ellipsoid_4_cy, ellipsoid_4_cz]) rotate([ellipsoid_4_rot_x, ellipsoid_4_rot_y, ellipsoid_4_rot_z]) scale([ellipsoid_4_rx, ellipsoid_4_ry, ellipsoid_4_rz]) sphere(r = fn_sr(1));
-          translate([box_5_cx, box_5_cy, box_5_cz]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
+          translate([box_2_cx, box_2_cy, box_2_cz]) rotate([box_2_rot_x, box_2_rot_y, box_2_rot_z]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
+          difference() {
+            translate([box_3_cx, box_3_cy, box_3_cz]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
+            translate([ellipsoid_4_cx, ellipsoid_4_cy, ellipsoid_4_cz]) rotate([ellipsoid_4_rot_x, ellipsoid_4_rot_y, ellipsoid_4_rot_z]) scale([ellipsoid_4_rx, ellipsoid_4_ry, ellipsoid_4_rz]) sphere(r = fn_sr(1));
+          }
+        }
+        difference() {
+          translate([prism_5_cx, prism_5_cy, prism_5_cz]) rotate([prism_5_rot_x, prism_5_rot_y, prism_5_rot_z]) linear_extrude(height = prism_5_depth, center = true) polygon([[-prism_5_w / 2, -prism_5_h / 2], [prism_5_w / 2, -prism_5_h / 2], [prism_5_apex * prism_5_w / 2, prism_5_h / 2]]);
+          translate([box_6_cx, box_6_cy, box_6_cz]) rotate([box_6_rot_x, box_6_rot_y, box_6_rot_z]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
         }
       }
-    }
-    difference() {
-      translate([prism_6_cx, prism_6_cy, prism_6_cz]) rotate([prism_6_rot_x, prism_6_rot_y, prism_6_rot_z]) linear_extrude(height = prism_6_depth, center = true) polygon([[-prism_6_w / 2, -prism_6_h / 2], [prism_6_w / 2, -prism_6_h / 2], [prism_6_apex * prism_6_w / 2, prism_6_h / 2]]);
       translate([box_7_cx, box_7_cy, box_7_cz]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
     }
     translate([cyl_8_cx, cyl_8_cy, cyl_8_cz]) rotate([cyl_8_rot_x, cyl_8_rot_y, 0]) cylinder(h = cyl_8_h, r = fn_r(cyl_8_r), center = true);
     translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, box_9_rot_y, box_9_rot_z]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
-    translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
+    translate([box_10_cx, box_10_cy, box_10_cz]) rotate([0, box_10_rot_y, 0]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
     translate([box_11_cx, box_11_cy, box_11_cz]) rotate([0, box_11_rot_y, box_11_rot_z]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
-    translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, box_12_rot_y, box_12_rot_z]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
+    translate([box_12_cx, box_12_cy, box_12_cz]) rotate([0, box_12_rot_y, 0]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
   }
 }
 
