@@ -13,6 +13,7 @@
 #include "csgfit/features/range_evidence.h"
 #include "csgfit/refine/range_refine.h"
 #include "csgfit/search/graph_search.h"
+#include "csgfit/search/hidden_extents.h"
 #include "csgfit/search/hidden_trim.h"
 #include "csgfit/seed/evidence_pockets.h"
 #include "csgfit/seed/surface_candidates.h"
@@ -179,6 +180,7 @@ void improve_against_views(RangeFitResult& result, std::vector<SignedPrimitive> 
   prune_by_evidence(result.graph, evidence, k);
   // Last, after the polish: the polish would move a trim's plane to where it takes nothing.
   result.graph = trim_hidden(std::move(result.graph), pool, evidence, k, cancel);
+  result.graph = align_hidden_faces(std::move(result.graph), evidence);
 }
 
 bool report(const ProgressCallback& progress, double fraction, double seconds,

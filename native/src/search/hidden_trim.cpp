@@ -1,69 +1,18 @@
-// Trims are tried as whole graphs: each node's signed distance at every sample (the evidence's
-// and the behind points) is computed once, and a trial composes the tree over them.
+// Trims are tried as whole graphs, scored by ViewScorer (view_reading.h).
 #include "csgfit/search/hidden_trim.h"
 
 #include <algorithm>
 #include <cstddef>
 #include <limits>
 
-#include "csgfit/refine/range_refine.h"
+#include "view_reading.h"
 
 namespace csgfit {
 
 namespace {
 
-constexpr double kSeenSlack = 0.25;     // of the size weight: what a trim may change of the seen
 constexpr double kTrimShare = 0.05;     // of the tree's hidden volume: what a trim must take
 constexpr double kTargetShare = 0.01;   // ... and what each primitive it cuts must give up
-
-struct Reading {
-  double seen = std::numeric_limits<double>::infinity();  // seen mismatch + behind points outside
-  std::size_t hidden = 0;                                   // hidden samples inside the tree
-};
-
-class TrimScorer {
- public:
-  TrimScorer(const RangeEvidence& evidence, const std::vector<SignedPrimitive>& nodes)
-      : samples_(evidence), depth_(0.5 * evidence.tolerance) {
-    points_ = samples_.points();
-    points_.insert(points_.end(), evidence.behind.begin(), evidence.behind.end());
-    for (const SignedPrimitive& n : nodes) nodes_.push_back(distances(n.primitive));
-  }
-
-  std::vector<double> distances(const Primitive3D& p) const {
-    std::vector<double> d(points_.size());
-    p.signed_distances(points_.data(), points_.size(), d.data());
-    return d;
-  }
-
-  // `graph`'s reading, its last node's distances `extra` when the graph has one node more than
-  // the scorer knows.
-  Reading read(const PrecedenceGraph& graph, const std::vector<double>* extra = nullptr) {
-    std::vector<int> leaf_nodes;
-    const Node3D tree = precedence_tree(graph, &leaf_nodes);
-    if (leaf_nodes.empty()) return {};
-    std::vector<const double*> leaves;
-    for (int n : leaf_nodes)
-      leaves.push_back(static_cast<std::size_t>(n) < nodes_.size() ? nodes_[n].data() : extra->data());
-    const std::vector<double>& d = composer_.compose(tree, leaves, points_.size());
-    Reading r;
-    // The tree itself as the tree without its conjectured cuts: no hidden erasure is priced.
-    r.seen = static_cast<double>(samples_.mismatch(d.data(), d.data()).total());
-    for (std::size_t s = samples_.size(); s < d.size(); ++s)
-      if (d[s] > 0) r.seen += EvidenceSamples::kUnitsPerSample * std::min(1.0, d[s] / depth_);
-    for (std::size_t s = samples_.hidden_start(); s < samples_.size(); ++s) r.hidden += d[s] < 0;
-    return r;
-  }
-
-  void add_node(std::vector<double> d) { nodes_.push_back(std::move(d)); }
-
- private:
-  const EvidenceSamples samples_;
-  const double depth_;  // how far behind a return the behind points lie
-  std::vector<Vec3> points_;
-  std::vector<std::vector<double>> nodes_;
-  DistanceComposer composer_;
-};
 
 struct Trim {
   PrecedenceGraph graph;
@@ -80,7 +29,7 @@ PrecedenceGraph cutting(const PrecedenceGraph& g, const SignedPrimitive& cut, co
 
 // The trim by `cut` of every positive node that gives up hidden volume to it alone unseen; empty
 // graph when the trim as a whole does not keep the views or take enough.
-Trim trim_by(const PrecedenceGraph& g, const SignedPrimitive& cut, TrimScorer& scorer,
+Trim trim_by(const PrecedenceGraph& g, const SignedPrimitive& cut, ViewScorer& scorer,
              const Reading& base, double slack) {
   Trim trim;
   trim.cut = scorer.distances(cut.primitive);
@@ -106,7 +55,7 @@ Trim trim_by(const PrecedenceGraph& g, const SignedPrimitive& cut, TrimScorer& s
 PrecedenceGraph trim_hidden(PrecedenceGraph graph, const std::vector<SignedPrimitive>& pool,
                             const RangeEvidence& evidence, double k, const std::atomic<bool>* cancel) {
   if (evidence.hidden.empty() || graph.nodes.empty()) return graph;
-  TrimScorer scorer(evidence, graph.nodes);
+  ViewScorer scorer(evidence, graph.nodes);
   for (;;) {
     const Reading base = scorer.read(graph);
     if (base.hidden == 0) break;

@@ -1,0 +1,18 @@
+// Hidden faces where the designer would have put them: a block's face that no view saw is
+// moved out to a plane the part already has (another block's face, a cylinder's or sphere's
+// tangent plane), as a CAD user aligns an unseen underside with the features beside it.
+#pragma once
+
+#include "csgfit/features/range_evidence.h"
+#include "csgfit/seed/precedence_graph.h"
+
+namespace csgfit {
+
+/// `graph` with each positive block's faces moved outwards, each to the nearest plane parallel
+/// to it that another node bounds (within half the block's size along the face's normal), when
+/// the views do not see the difference (no surface, empty or behind point of `evidence` agrees
+/// less). Nothing moves when the evidence has no hidden points (a scan without a camera).
+/// Deterministic.
+PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence);
+
+}  // namespace csgfit

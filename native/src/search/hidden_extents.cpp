@@ -1,0 +1,98 @@
+#include "csgfit/search/hidden_extents.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "model/linalg.h"
+#include "view_reading.h"
+
+namespace csgfit {
+
+using namespace linalg;
+
+namespace {
+
+constexpr double kParallel = 0.9998;  // cos 1 degree: directions this close are one
+constexpr double kSquare = 0.0175;    // sin 1 degree: directions this close to 90 degrees are square
+constexpr double kReach = 0.5;        // of the block's size along the normal: how far a face moves
+
+// Offsets along unit `n` of the planes square to `n` that bound `p` (its faces, or its tangent
+// planes where its surface meets them), as the designer's references for a face along `n`.
+void bounding_planes(const Primitive3D& p, const Vec3& n, std::vector<double>& out) {
+  const Vec3 c{p.cx, p.cy, p.cz};
+  const double at = dot(c, n);
+  const Mat3 r = p.rotation.matrix();
+  const auto both = [&](double half) { out.push_back(at - half), out.push_back(at + half); };
+  switch (p.kind) {
+    case PrimitiveKind3D::Box:
+      for (int a = 0; a < 3; ++a)
+        if (std::abs(dot(column(r, a), n)) > kParallel) both(p.dims[a] / 2);
+      break;
+    case PrimitiveKind3D::Cylinder: {
+      const double along = std::abs(dot(column(r, 2), n));
+      if (along > kParallel) both(p.dims[2] / 2);
+      else if (along < kSquare) both(p.dims[0]);
+      break;
+    }
+    case PrimitiveKind3D::Sphere: both(p.dims[0]); break;
+    default: break;
+  }
+}
+
+// The block `b` with its face on the side `side` of local axis `a` moved to offset `to` along
+// that face's outward normal.
+Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
+  const Vec3 n = scale(column(b.rotation.matrix(), a), side);
+  const double from = dot(Vec3{b.cx, b.cy, b.cz}, n) + b.dims[a] / 2;
+  Primitive3D moved = b;
+  moved.dims[a] += to - from;
+  const Vec3 shift = scale(n, (to - from) / 2);
+  moved.cx += shift[0], moved.cy += shift[1], moved.cz += shift[2];
+  return moved;
+}
+
+// Candidate offsets for block `b`'s face (axis a, side): the other nodes' planes beyond it,
+// within reach, nearest first.
+std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int side) {
+  const Primitive3D& block = g.nodes[static_cast<std::size_t>(b)].primitive;
+  const Vec3 n = scale(column(block.rotation.matrix(), a), side);
+  const double from = dot(Vec3{block.cx, block.cy, block.cz}, n) + block.dims[a] / 2;
+  std::vector<double> planes, out;
+  for (std::size_t j = 0; j < g.nodes.size(); ++j)
+    if (static_cast<int>(j) != b) bounding_planes(g.nodes[j].primitive, n, planes);
+  const double reach = kReach * block.dims[a];
+  const double floor = 1e-6 * block.dims[a];  // a plane the face already lies on is no move
+  for (double o : planes)
+    if (o > from + floor && o <= from + reach) out.push_back(o);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence) {
+  if (evidence.hidden.empty() || graph.nodes.empty()) return graph;
+  ViewScorer scorer(evidence, graph.nodes);
+  // Against the graph as it came, and without the other changes' slack: a thin block's face
+  // moved up across a seen surface covers too few samples to cost a quarter of k.
+  const double seen = scorer.read(graph).seen;
+  for (std::size_t b = 0; b < graph.nodes.size(); ++b) {
+    SignedPrimitive& node = graph.nodes[b];
+    if (!node.positive || node.conjectured || node.primitive.kind != PrimitiveKind3D::Box) continue;
+    for (int a = 0; a < 3; ++a)
+      for (int side : {-1, 1}) {
+        for (double to : face_targets(graph, static_cast<int>(b), a, side)) {
+          const Primitive3D moved = with_face_at(node.primitive, a, side, to);
+          std::vector<double> d = scorer.distances(moved);
+          if (scorer.read(graph, &d, static_cast<int>(b)).seen > seen) continue;
+          node.primitive = moved;
+          scorer.set_node(static_cast<int>(b), std::move(d));
+          break;
+        }
+      }
+  }
+  return graph;
+}
+
+}  // namespace csgfit

@@ -1,0 +1,63 @@
+// Hidden faces aligned with the part's planes, on scans rendered from known trees: a plate's
+// unseen underside goes down to the tangent plane of the rod along its edge, and a face the
+// view sees does not move.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "csgfit/features/range_evidence.h"
+#include "csgfit/search/hidden_extents.h"
+#include "range_graphs.h"
+
+namespace csgfit {
+namespace {
+
+using testing::evidence_of;
+using testing::graph_of;
+using testing::signed_node;
+
+// A plate 1.5 thick (z in [-0.75, 0.75]) with a rod of radius 0.75 along its +y edge, turned
+// by half a degree as a fit leaves it.
+const Primitive3D kPlate = Primitive3D::box(0, 0, 0, 8, 6, 1.5);
+const Primitive3D kRod =
+    Primitive3D::cylinder(0, 3, 0, 0.75, 8, Quaternion::from_axis_angle(0, 1, 0, 90.5));
+
+double bottom(const Primitive3D& box) { return box.cz - box.dims[2] / 2; }
+
+TEST(HiddenExtents, AnUnseenUndersideMeetsTheRodsTangentPlane) {
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), Node3D::leaf(kRod)}));
+  // The plate as one view leaves it: top and sides right, the underside as high as it agrees.
+  const Primitive3D thin = Primitive3D::box(0, 0, 0.225, 8, 6, 1.05);
+  const PrecedenceGraph g = align_hidden_faces(
+      graph_of({signed_node(thin, true), signed_node(kRod, true)}), evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 1e-9) << "down to the rod's lowest line";
+  EXPECT_NEAR(g.nodes[0].primitive.cz + g.nodes[0].primitive.dims[2] / 2, 0.75, 1e-9) << "top stays";
+  EXPECT_NEAR(g.nodes[0].primitive.dims[0], 8, 1e-9);
+}
+
+TEST(HiddenExtents, AFaceTheViewSeesStays) {
+  // A block beside the plate reaching lower: the view sees under the plate's near edges, so
+  // its underside may not go down to the block's.
+  const Primitive3D block = Primitive3D::box(6, 0, -0.2, 2, 2, 2.2);
+  const Node3D truth = Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), Node3D::leaf(block)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const PrecedenceGraph g = align_hidden_faces(
+      graph_of({signed_node(kPlate, true), signed_node(block, true)}), evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 1e-9);
+  EXPECT_NEAR(g.nodes[0].primitive.cz + g.nodes[0].primitive.dims[2] / 2, 0.75, 1e-9)
+      << "nor its top up to the block's";
+}
+
+TEST(HiddenExtents, NothingWithoutACamera) {
+  RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), Node3D::leaf(kRod)}));
+  evidence.hidden.clear();  // what a scan without a camera gives
+  const Primitive3D thin = Primitive3D::box(0, 0, 0.225, 8, 6, 1.05);
+  const PrecedenceGraph g = align_hidden_faces(
+      graph_of({signed_node(thin, true), signed_node(kRod, true)}), evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.3, 1e-9);
+}
+
+}  // namespace
+}  // namespace csgfit
