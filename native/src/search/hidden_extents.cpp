@@ -59,8 +59,11 @@ std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int sid
   const Vec3 n = scale(column(block.rotation.matrix(), a), side);
   const double from = dot(Vec3{block.cx, block.cy, block.cz}, n) + block.dims[a] / 2;
   std::vector<double> planes, out;
+  // Only what the part has: a cut's extent past the material it takes is arbitrary (a hole's
+  // cylinder reaches anywhere beyond the block it goes through).
   for (std::size_t j = 0; j < g.nodes.size(); ++j)
-    if (static_cast<int>(j) != b) bounding_planes(g.nodes[j].primitive, n, planes);
+    if (static_cast<int>(j) != b && g.nodes[j].positive && !g.nodes[j].conjectured)
+      bounding_planes(g.nodes[j].primitive, n, planes);
   const double reach = kReach * block.dims[a];
   const double floor = 1e-6 * block.dims[a];  // a plane the face already lies on is no move
   for (double o : planes)
