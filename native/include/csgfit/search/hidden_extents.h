@@ -9,10 +9,10 @@
 namespace csgfit {
 
 /// `graph` with each positive block's faces moved outwards, each to the nearest plane parallel
-/// to it that another node bounds (within half the block's size along the face's normal), when
-/// the views do not see the difference (no surface, empty or behind point of `evidence` agrees
-/// less). Nothing moves when the evidence has no hidden points (a scan without a camera).
-/// Deterministic.
+/// to it that another positive, unconjectured node bounds (within half the block's size along
+/// the face's normal), when the views do not see the difference (no surface, empty or behind
+/// point of `evidence` agrees less). Nothing moves when the evidence has no hidden points (a
+/// scan without a camera). Deterministic.
 PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence);
 
 }  // namespace csgfit
