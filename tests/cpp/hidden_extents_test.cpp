@@ -3,8 +3,6 @@
 // view sees does not move.
 #include <gtest/gtest.h>
 
-#include <cmath>
-
 #include "csgfit/features/range_evidence.h"
 #include "csgfit/search/hidden_extents.h"
 #include "range_graphs.h"

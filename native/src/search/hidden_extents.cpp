@@ -40,14 +40,24 @@ void bounding_planes(const Primitive3D& p, const Vec3& n, std::vector<double>& o
   }
 }
 
-// The block `b` with its face on the side `side` of local axis `a` moved to offset `to` along
-// that face's outward normal.
-Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
+// Block `b`'s face on the side `side` of local axis `a`: its outward normal and its offset
+// along it.
+struct Face {
+  Vec3 n;
+  double at;
+};
+
+Face face_of(const Primitive3D& b, int a, int side) {
   const Vec3 n = scale(column(b.rotation.matrix(), a), side);
-  const double from = dot(Vec3{b.cx, b.cy, b.cz}, n) + b.dims[a] / 2;
+  return {n, dot(Vec3{b.cx, b.cy, b.cz}, n) + b.dims[a] / 2};
+}
+
+// The block `b` with that face moved to offset `to` along its normal.
+Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
+  const Face f = face_of(b, a, side);
   Primitive3D moved = b;
-  moved.dims[a] += to - from;
-  const Vec3 shift = scale(n, (to - from) / 2);
+  moved.dims[a] += to - f.at;
+  const Vec3 shift = scale(f.n, (to - f.at) / 2);
   moved.cx += shift[0], moved.cy += shift[1], moved.cz += shift[2];
   return moved;
 }
@@ -56,18 +66,17 @@ Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
 // within reach, nearest first.
 std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int side) {
   const Primitive3D& block = g.nodes[static_cast<std::size_t>(b)].primitive;
-  const Vec3 n = scale(column(block.rotation.matrix(), a), side);
-  const double from = dot(Vec3{block.cx, block.cy, block.cz}, n) + block.dims[a] / 2;
+  const Face f = face_of(block, a, side);
   std::vector<double> planes, out;
   // Only what the part has: a cut's extent past the material it takes is arbitrary (a hole's
   // cylinder reaches anywhere beyond the block it goes through).
   for (std::size_t j = 0; j < g.nodes.size(); ++j)
     if (static_cast<int>(j) != b && g.nodes[j].positive && !g.nodes[j].conjectured)
-      bounding_planes(g.nodes[j].primitive, n, planes);
+      bounding_planes(g.nodes[j].primitive, f.n, planes);
   const double reach = kReach * block.dims[a];
   const double floor = 1e-6 * block.dims[a];  // a plane the face already lies on is no move
   for (double o : planes)
-    if (o > from + floor && o <= from + reach) out.push_back(o);
+    if (o > f.at + floor && o <= f.at + reach) out.push_back(o);
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -1,9 +1,7 @@
 // Trims are tried as whole graphs, scored by ViewScorer (view_reading.h).
 #include "csgfit/search/hidden_trim.h"
 
-#include <algorithm>
 #include <cstddef>
-#include <limits>
 
 #include "view_reading.h"
 
@@ -11,6 +9,7 @@ namespace csgfit {
 
 namespace {
 
+constexpr double kSeenSlack = 0.25;     // of the size weight: what a trim may change of the seen
 constexpr double kTrimShare = 0.05;     // of the tree's hidden volume: what a trim must take
 constexpr double kTargetShare = 0.01;   // ... and what each primitive it cuts must give up
 

@@ -14,9 +14,6 @@
 
 namespace csgfit {
 
-/// Of the size weight: how much a change after the search may alter the seen mismatch.
-constexpr double kSeenSlack = 0.25;
-
 struct Reading {
   double seen = std::numeric_limits<double>::infinity();  // seen mismatch + behind points outside
   std::size_t hidden = 0;                                   // hidden samples inside the tree
