@@ -3,6 +3,9 @@
 // only where it helps, and the same input gives the same graph.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "csgfit/features/range_evidence.h"
 #include "csgfit/refine/range_refine.h"
 #include "csgfit/search/graph_search.h"
@@ -124,6 +127,7 @@ TEST(PocketProposals, AnEdgeNotchSeenEmptyBecomesAConjecturedCut) {
   const RangeEvidence evidence = evidence_of(truth);
   const std::vector<SignedPrimitive> cuts =
       pocket_proposals(graph_of({signed_node(kBlock, true)}), evidence, 0.3);
+  // No plane takes the slot without the block's faces beside it: the box alone.
   ASSERT_EQ(cuts.size(), 1u) << "one cluster of empty points inside the block";
   const SignedPrimitive& cut = cuts[0];
   EXPECT_FALSE(cut.positive);
@@ -131,6 +135,31 @@ TEST(PocketProposals, AnEdgeNotchSeenEmptyBecomesAConjecturedCut) {
   EXPECT_TRUE(cut.primitive.contains(-3.5, 2.5, 0)) << "the slot's middle";
   EXPECT_TRUE(cut.primitive.contains(-3.9, 2.9, 1.45)) << "reaching through the faces it meets";
   EXPECT_FALSE(cut.primitive.contains(-2, 1, 0)) << "the block's material stays";
+}
+
+TEST(PocketProposals, AChamferedEdgeSeenEmptyBecomesASlantedCut) {
+  // The block's top edge along y on the +x side bevelled at 45 degrees: the bevel's plane,
+  // not a box square to the block, is what takes the empty wedge and leaves the rest.
+  const Primitive3D bevel =
+      Primitive3D::box(4, 0, 1.5, 2 * std::sqrt(2.0), 8, 2 * std::sqrt(2.0),
+                       Quaternion::from_axis_angle(0, 1, 0, 45));
+  const Node3D truth = Node3D::op(NodeKind::Difference, {Node3D::leaf(kBlock), Node3D::leaf(bevel)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const std::vector<SignedPrimitive> cuts =
+      pocket_proposals(graph_of({signed_node(kBlock, true)}), evidence, 0.3);
+  // The wedge's cluster gives its square box and the slanted cut (a sliver along the edge,
+  // where rays graze both faces, may give more).
+  const auto through_wedge = [](const SignedPrimitive& c) {
+    return !c.primitive.rotation.is_identity(1e-6) && c.primitive.contains(3.8, 0, 1.3);
+  };
+  const auto it = std::find_if(cuts.begin(), cuts.end(), through_wedge);
+  ASSERT_NE(it, cuts.end()) << "a slanted cut through the wedge";
+  const Primitive3D& slanted = it->primitive;
+  EXPECT_TRUE(it->conjectured);
+  EXPECT_TRUE(slanted.contains(3.9, 2.9, 1.4)) << "all along the edge";
+  EXPECT_FALSE(slanted.contains(2.5, 0, 0.5)) << "the block's material below the bevel stays";
+  EXPECT_FALSE(slanted.contains(3.5, 0, -1)) << "and its side below the bevel";
+  EXPECT_TRUE(cuts[0].primitive.contains(2.5, 0, 0.5)) << "where the wedge's square box cuts too deep";
 }
 
 TEST(PocketProposals, NoneWhereTheTreeAgreesWithTheViews) {

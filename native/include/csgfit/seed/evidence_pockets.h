@@ -13,8 +13,11 @@ namespace csgfit {
 /// For each positive node of `graph` and each cluster of the empty evidence points that lie
 /// deeper than half a tolerance inside both the tree and that node: a box in the node's own
 /// frame around the cluster, reaching out through the node's faces it comes near, as a
-/// conjectured negative primitive. Clusters are joined at `gap` (model units); those of fewer
-/// than `min_points` points are ignored.
+/// conjectured negative primitive; and where a plane takes the cluster without the seen
+/// material beside it (a bevel, a slanted face no view sees), the cut beyond that plane. The
+/// plane's normal is tried along the node's faces, edges and corners and 98 spread directions;
+/// of the planes that take nearly the most, the one giving up least hidden volume wins.
+/// Clusters are joined at `gap` (model units); those of fewer than `min_points` are ignored.
 std::vector<SignedPrimitive> pocket_proposals(const PrecedenceGraph& graph,
                                               const RangeEvidence& evidence, double gap,
                                               std::size_t min_points = 20);
