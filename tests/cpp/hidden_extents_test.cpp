@@ -1,6 +1,6 @@
 // Hidden faces aligned with the part's planes, on scans rendered from known trees: a plate's
 // unseen underside goes down to the tangent plane of the rod along its edge, and a face the
-// view sees does not move.
+// view sees does not move; a hole goes through unless its bottom is seen.
 #include <gtest/gtest.h>
 
 #include "csgfit/features/range_evidence.h"
@@ -55,6 +55,38 @@ TEST(HiddenExtents, NothingWithoutACamera) {
   const PrecedenceGraph g = align_hidden_faces(
       graph_of({signed_node(thin, true), signed_node(kRod, true)}), evidence);
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.3, 1e-9);
+}
+
+// The plate with a hole cut from it: node 0 the plate, node 1 the hole.
+PrecedenceGraph plate_minus(const Primitive3D& hole) {
+  return with_node(graph_of({signed_node(kPlate, true)}), signed_node(hole, false),
+                   {{0, 1, ArcKind::Subtracting}});
+}
+
+double lowest(const Primitive3D& vertical) { return vertical.cz - vertical.dims[2] / 2; }
+
+TEST(HolesThrough, AHoleWhoseBottomNoViewSeesGoesThrough) {
+  // Radius 0.5 through the 1.5 plate: from 35 degrees up no ray reaches its lower half.
+  const Primitive3D through = Primitive3D::cylinder(1, 0.5, 0, 0.5, 2);
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(through)}));
+  // As the surface reading leaves it: as deep as its wall was seen.
+  const Primitive3D blind = Primitive3D::cylinder(1, 0.5, 0.5, 0.5, 0.5);
+  const PrecedenceGraph g = holes_through(plate_minus(blind), evidence);
+  EXPECT_LT(lowest(g.nodes[1].primitive), -0.75) << "through the plate's underside";
+  const double top = g.nodes[1].primitive.cz + g.nodes[1].primitive.dims[2] / 2;
+  EXPECT_GE(top, 0.75) << "still open at the top";
+  EXPECT_LE(top, 0.75 + evidence.tolerance + 1e-9) << "and no further out than through";
+  EXPECT_NEAR(g.nodes[1].primitive.dims[0], 0.5, 1e-12);
+}
+
+TEST(HolesThrough, ABlindHoleWhoseBottomIsSeenStays) {
+  // A wide shallow counterbore: the view sees its floor.
+  const Primitive3D bore = Primitive3D::cylinder(0, 0, 0.75, 1.5, 0.6);
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(bore)}));
+  const PrecedenceGraph g = holes_through(plate_minus(bore), evidence);
+  EXPECT_NEAR(lowest(g.nodes[1].primitive), 0.45, 1e-9);
 }
 
 }  // namespace

@@ -181,6 +181,7 @@ void improve_against_views(RangeFitResult& result, std::vector<SignedPrimitive> 
   // Last, after the polish: the polish would move a trim's plane to where it takes nothing.
   result.graph = trim_hidden(std::move(result.graph), pool, evidence, k, cancel);
   result.graph = align_hidden_faces(std::move(result.graph), evidence);
+  result.graph = holes_through(std::move(result.graph), evidence);
 }
 
 bool report(const ProgressCallback& progress, double fraction, double seconds,

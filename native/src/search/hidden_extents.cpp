@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "model/linalg.h"
@@ -81,7 +82,74 @@ std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int sid
   return out;
 }
 
+// Half the width of `p` along unit `n`: exact for a box, a ball and a cylinder, the bounding
+// ball's radius otherwise.
+double half_width(const Primitive3D& p, const Vec3& n) {
+  const Mat3 r = p.rotation.matrix();
+  const Vec3& d = p.dims;
+  switch (p.kind) {
+    case PrimitiveKind3D::Box: {
+      double w = 0;
+      for (int a = 0; a < 3; ++a) w += std::abs(dot(column(r, a), n)) * d[a] / 2;
+      return w;
+    }
+    case PrimitiveKind3D::Sphere: return d[0];
+    case PrimitiveKind3D::Cylinder: {
+      const double along = std::abs(dot(column(r, 2), n));
+      return along * d[2] / 2 + d[0] * std::sqrt(std::max(0.0, 1 - along * along));
+    }
+    default: return norm(d) + norm(Vec3{d[0], d[1], 0});
+  }
+}
+
+// Where along unit `axis` the positive nodes cut by node `cut` begin and end.
+std::pair<double, double> cut_span(const PrecedenceGraph& g, int cut, const Vec3& axis) {
+  double lo = 1e300, hi = -1e300;
+  for (const PrecedenceArc& arc : g.arcs) {
+    if (arc.to != cut || arc.kind != ArcKind::Subtracting) continue;
+    const Primitive3D& t = g.nodes[static_cast<std::size_t>(arc.from)].primitive;
+    const double at = dot(Vec3{t.cx, t.cy, t.cz}, axis), w = half_width(t, axis);
+    lo = std::min(lo, at - w), hi = std::max(hi, at + w);
+  }
+  return {lo, hi};
+}
+
+// The cylinder `c` with its end on side `side` of its axis moved to offset `to` along it.
+Primitive3D with_end_at(const Primitive3D& c, int side, double to) {
+  const Vec3 axis = scale(column(c.rotation.matrix(), 2), side);
+  const double end = dot(Vec3{c.cx, c.cy, c.cz}, axis) + c.dims[2] / 2;
+  Primitive3D moved = c;
+  moved.dims[2] += to - end;
+  const Vec3 shift = scale(axis, (to - end) / 2);
+  moved.cx += shift[0], moved.cy += shift[1], moved.cz += shift[2];
+  return moved;
+}
+
 }  // namespace
+
+PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence) {
+  if (evidence.hidden.empty() || graph.nodes.empty()) return graph;
+  ViewScorer scorer(evidence, graph.nodes);
+  const double seen = scorer.read(graph).seen;
+  const double margin = evidence.tolerance;
+  for (std::size_t h = 0; h < graph.nodes.size(); ++h) {
+    SignedPrimitive& hole = graph.nodes[h];
+    if (hole.positive || hole.conjectured || hole.primitive.kind != PrimitiveKind3D::Cylinder) continue;
+    for (int side : {-1, 1}) {
+      const Vec3 axis = scale(column(hole.primitive.rotation.matrix(), 2), side);
+      const auto [lo, hi] = cut_span(graph, static_cast<int>(h), axis);
+      const double end = dot(Vec3{hole.primitive.cx, hole.primitive.cy, hole.primitive.cz}, axis) +
+                         hole.primitive.dims[2] / 2;
+      if (lo > hi || end >= hi + margin) continue;
+      const Primitive3D through = with_end_at(hole.primitive, side, hi + margin);
+      std::vector<double> d = scorer.distances(through);
+      if (scorer.read(graph, &d, static_cast<int>(h)).seen > seen) continue;
+      hole.primitive = through;
+      scorer.set_node(static_cast<int>(h), std::move(d));
+    }
+  }
+  return graph;
+}
 
 PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence) {
   if (evidence.hidden.empty() || graph.nodes.empty()) return graph;

@@ -15,4 +15,11 @@ namespace csgfit {
 /// scan without a camera). Deterministic.
 PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence);
 
+/// `graph` with each hole (a negative, unconjectured cylinder) drilled through what it cuts: an
+/// end no view sees moved past the far side of the positive nodes it is subtracted from, as a
+/// machinist drills through unless the hole's bottom is seen; kept when the views do not see the
+/// difference (no surface, empty or behind point of `evidence` agrees less). Nothing moves when
+/// the evidence has no hidden points. Deterministic.
+PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence);
+
 }  // namespace csgfit
