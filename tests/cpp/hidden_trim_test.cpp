@@ -1,6 +1,7 @@
 // Trimming hidden material (seed 002's smallest hidden extents, for what a cut takes away) on
 // scans rendered from known trees: a dome's hidden lower half under its plate goes, what a view
-// saw stays, and a seen face is not hollowed into a skin.
+// saw stays, a seen face is not hollowed into a skin, and a ball flattened on its seen side is
+// flattened the same on its hidden side.
 #include <gtest/gtest.h>
 
 #include "csgfit/features/range_evidence.h"
@@ -66,6 +67,43 @@ TEST(HiddenTrim, ASeenFaceIsNotHollowedIntoASkin) {
   blind.behind.clear();
   EXPECT_EQ(trim_hidden(plate, kCuts, blind, evidence_k(blind)).nodes.size(), 2u)
       << "without them the skin looks the same as the plate";
+}
+
+// A ball of radius 2 with a flat at 1.6 from its centre along each of `sides` (unit axes) cut
+// from it, as the surface reading gives them: node 0 the ball, then the blocks.
+PrecedenceGraph ball_with_flats(const std::vector<Vec3>& sides) {
+  PrecedenceGraph g = graph_of({signed_node(Primitive3D::sphere(0, 0, 0, 2), true)});
+  for (const Vec3& s : sides) {
+    const Vec3 c = {s[0] * 6.6, s[1] * 6.6, s[2] * 6.6};  // a block 10 wide, its face at 1.6
+    g = with_node(g, signed_node(Primitive3D::box(c[0], c[1], c[2], 10, 10, 10), false),
+                  {{0, static_cast<int>(g.nodes.size()), ArcKind::Subtracting}});
+  }
+  return g;
+}
+
+TEST(HiddenTrim, AFlattenedBallsHiddenFlatsMirrorItsSeenOnes) {
+  // A lock's body: the ball within a cube. The view sees the flats facing it, +x, +y and +z.
+  const Node3D truth = Node3D::op(NodeKind::Intersection, {Node3D::leaf(Primitive3D::sphere(0, 0, 0, 2)),
+                                                          Node3D::leaf(Primitive3D::box(0, 0, 0, 3.2, 3.2, 3.2))});
+  const RangeEvidence evidence = evidence_of(truth);
+  const PrecedenceGraph seen = ball_with_flats({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
+  const PrecedenceGraph g = trim_hidden(seen, {}, evidence, evidence_k(evidence));
+  ASSERT_EQ(g.nodes.size(), 7u);
+  const Node3D tree = precedence_tree(g);
+  for (const Vec3& p : {Vec3{-1.8, 0, 0}, Vec3{0, -1.8, 0}, Vec3{0, 0, -1.8}})
+    EXPECT_FALSE(contains(tree, p[0], p[1], p[2])) << "past the hidden flat along " << p[0] << " " << p[1] << " " << p[2];
+  EXPECT_TRUE(contains(tree, -1.5, 0, 0));
+  EXPECT_TRUE(contains(tree, 0, -1.5, -1.0));
+}
+
+TEST(HiddenTrim, ASeenRoundSideIsNotFlattened) {
+  // The ball flattened only underneath, where the view does not see: its seen top stays round.
+  const Node3D truth = Node3D::op(NodeKind::Difference, {Node3D::leaf(Primitive3D::sphere(0, 0, 0, 2)),
+                                                        Node3D::leaf(Primitive3D::box(0, 0, -6.6, 10, 10, 10))});
+  const RangeEvidence evidence = evidence_of(truth);
+  const PrecedenceGraph g = trim_hidden(ball_with_flats({{0, 0, -1}}), {}, evidence, evidence_k(evidence));
+  EXPECT_EQ(g.nodes.size(), 2u);
+  EXPECT_TRUE(contains(precedence_tree(g), 0, 0, 1.8));
 }
 
 TEST(HiddenTrim, NothingWithoutACamera) {

@@ -16,8 +16,10 @@ namespace csgfit {
 /// material, greedily, the largest trim first: each cuts the positive nodes whose hidden part
 /// behind its plane it takes without changing what the views see (surface, empty and behind
 /// points of `evidence`, within a quarter of the size weight `k`), and is kept when it takes at
-/// least a twentieth of the tree's hidden volume. Nothing changes when the evidence has no
-/// hidden points (a scan without a camera). Deterministic.
+/// least a twentieth of the tree's hidden volume. Then each block cut from a ball, cylinder or
+/// ellipsoid is mirrored through that node's centre, and the opposite flat is cut too where no
+/// view sees the difference (a lock's hidden three flats, from its seen three). Nothing changes
+/// when the evidence has no hidden points (a scan without a camera). Deterministic.
 PrecedenceGraph trim_hidden(PrecedenceGraph graph, const std::vector<SignedPrimitive>& pool,
                             const RangeEvidence& evidence, double k,
                             const std::atomic<bool>* cancel = nullptr);
