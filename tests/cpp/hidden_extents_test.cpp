@@ -1,6 +1,7 @@
 // Hidden faces aligned with the part's planes, on scans rendered from known trees: a plate's
-// unseen underside goes down to the tangent plane of the rod along its edge, and a face the
-// view sees does not move; a hole goes through unless its bottom is seen.
+// unseen underside goes down to the tangent plane of the rod along its edge, a block's to its
+// own width, a face the view sees does not move, and a hole goes through unless its bottom is
+// seen.
 #include <gtest/gtest.h>
 
 #include "csgfit/features/range_evidence.h"
@@ -45,6 +46,23 @@ TEST(HiddenExtents, AFaceTheViewSeesStays) {
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 1e-9);
   EXPECT_NEAR(g.nodes[0].primitive.cz + g.nodes[0].primitive.dims[2] / 2, 0.75, 1e-9)
       << "nor its top up to the block's";
+}
+
+TEST(HiddenExtents, ABlockSeenAsDeepAsItIsWideBecomesACube) {
+  // A 3 cube seen from above: the views allow its underside anywhere below the seen sides'
+  // lower edges, and its own width is the designer's size.
+  const Primitive3D cube = Primitive3D::box(0, 0, 0, 3, 3, 3);
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(cube));
+  const Primitive3D shallow = Primitive3D::box(0, 0, 0.6, 3, 3, 1.8);
+  const PrecedenceGraph g = align_hidden_faces(graph_of({signed_node(shallow, true)}), evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -1.5, 1e-9);
+}
+
+TEST(HiddenExtents, APlateSeenFromAboveStaysAPlate) {
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
+  const Primitive3D thin = Primitive3D::box(0, 0, 0.225, 8, 6, 1.05);
+  const PrecedenceGraph g = align_hidden_faces(graph_of({signed_node(thin, true)}), evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.3, 1e-9) << "six wide is no reason to be six deep";
 }
 
 TEST(HiddenExtents, NothingWithoutACamera) {

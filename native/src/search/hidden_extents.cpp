@@ -78,6 +78,12 @@ std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int sid
   const double floor = 1e-6 * block.dims[a];  // a plane the face already lies on is no move
   for (double o : planes)
     if (o > f.at + floor && o <= f.at + reach) out.push_back(o);
+  // The block's own sizes: a block as deep as it is wide or tall, up to twice as deep as the
+  // views leave it (a plate seen from above stays a plate).
+  for (int other = 0; other < 3; ++other) {
+    const double grow = block.dims[other] - block.dims[a];
+    if (other != a && grow > floor && grow <= block.dims[a]) out.push_back(f.at + grow);
+  }
   std::sort(out.begin(), out.end());
   return out;
 }

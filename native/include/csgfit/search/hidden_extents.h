@@ -1,6 +1,7 @@
 // Hidden faces where the designer would have put them: a block's face that no view saw is
 // moved out to a plane the part already has (another block's face, a cylinder's or sphere's
-// tangent plane), as a CAD user aligns an unseen underside with the features beside it.
+// tangent plane) or to the block's own width, as a CAD user aligns an unseen underside with
+// the features beside it or draws a cube; a hole's unseen end goes through.
 #pragma once
 
 #include "csgfit/features/range_evidence.h"
@@ -10,9 +11,10 @@ namespace csgfit {
 
 /// `graph` with each positive block's faces moved outwards, each to the nearest plane parallel
 /// to it that another positive, unconjectured node bounds (within half the block's size along
-/// the face's normal), when the views do not see the difference (no surface, empty or behind
-/// point of `evidence` agrees less). Nothing moves when the evidence has no hidden points (a
-/// scan without a camera). Deterministic.
+/// the face's normal) or to where the block is as deep as one of its other sizes (within its
+/// size along the normal: a cube, not a plate made a cube), when the views do not see the
+/// difference (no surface, empty or behind point of `evidence` agrees less). Nothing moves when
+/// the evidence has no hidden points (a scan without a camera). Deterministic.
 PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence);
 
 /// `graph` with each hole (a negative, unconjectured cylinder) drilled through what it cuts: an
