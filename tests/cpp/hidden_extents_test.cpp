@@ -4,6 +4,8 @@
 // seen.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "csgfit/features/range_evidence.h"
 #include "csgfit/search/hidden_extents.h"
 #include "range_graphs.h"
@@ -63,6 +65,20 @@ TEST(HiddenExtents, APlateSeenFromAboveStaysAPlate) {
   const Primitive3D thin = Primitive3D::box(0, 0, 0.225, 8, 6, 1.05);
   const PrecedenceGraph g = align_hidden_faces(graph_of({signed_node(thin, true)}), evidence);
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.3, 1e-9) << "six wide is no reason to be six deep";
+}
+
+TEST(HiddenExtents, WhichFacesTurnTheirBackOnTheView) {
+  // Seen from azimuth 30, elevation 35: from +x, +y and above.
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
+  EXPECT_TRUE(faces_away_from_every_view(evidence, {0, 0, -0.75}, {0, 0, -1})) << "the underside";
+  EXPECT_TRUE(faces_away_from_every_view(evidence, {-4, 0, 0}, {-1, 0, 0})) << "the far end";
+  EXPECT_FALSE(faces_away_from_every_view(evidence, {0, 0, 0.75}, {0, 0, 1})) << "the top";
+  EXPECT_FALSE(faces_away_from_every_view(evidence, {4, 0, 0}, {1, 0, 0})) << "the near end";
+  // Square to the view: a grazing face may be seen.
+  EXPECT_FALSE(faces_away_from_every_view(evidence, {0, 0, 0}, {-0.5, std::sqrt(0.75), 0}));
+  RangeEvidence blind = evidence;
+  blind.cameras.clear();
+  EXPECT_FALSE(faces_away_from_every_view(blind, {0, 0, -0.75}, {0, 0, -1})) << "no camera, no view";
 }
 
 TEST(HiddenExtents, NothingWithoutACamera) {

@@ -177,7 +177,19 @@ RangeEvidence gather_evidence(const std::vector<RangeScan>& scans, double tolera
     through_misses(s, reach, 6 * max_surface / scans.size(), e);
   }
   hidden_points(scans, box, 2 * max_surface, tolerance, e);
+  for (const RangeScan& s : scans)
+    if (s.camera) e.cameras.push_back(*s.camera);
   return e;
+}
+
+bool faces_away_from_every_view(const RangeEvidence& evidence, const Vec3& point, const Vec3& normal) {
+  constexpr double kAway = 0.087;  // sin 5 degrees
+  for (const RangeCamera& c : evidence.cameras) {
+    const Vec3 origin{c.camera_to_world[3], c.camera_to_world[7], c.camera_to_world[11]};
+    const Vec3 ray = c.projection == Projection::Pinhole ? normalized(sub(point, origin)) : c.view_direction();
+    if (dot(ray, normal) < kAway) return false;
+  }
+  return !evidence.cameras.empty();
 }
 
 }  // namespace csgfit

@@ -168,10 +168,16 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
     if (!node.positive || node.conjectured || node.primitive.kind != PrimitiveKind3D::Box) continue;
     for (int a = 0; a < 3; ++a)
       for (int side : {-1, 1}) {
+        // A face that turns its back on every view may pass one sample the noise put on the
+        // wrong side; one a view looks at may not.
+        const Face f = face_of(node.primitive, a, side);
+        const Vec3 centre{node.primitive.cx, node.primitive.cy, node.primitive.cz};
+        const Vec3 on_face = add(centre, scale(f.n, node.primitive.dims[a] / 2));
+        const double slack = faces_away_from_every_view(evidence, on_face, f.n) ? EvidenceSamples::kUnitsPerSample : 0;
         for (double to : face_targets(graph, static_cast<int>(b), a, side)) {
           const Primitive3D moved = with_face_at(node.primitive, a, side, to);
           std::vector<double> d = scorer.distances(moved);
-          if (scorer.read(graph, &d, static_cast<int>(b)).seen > seen) continue;
+          if (scorer.read(graph, &d, static_cast<int>(b)).seen > seen + slack) continue;
           node.primitive = moved;
           scorer.set_node(static_cast<int>(b), std::move(d));
           break;

@@ -21,7 +21,13 @@ struct RangeEvidence {
   /// unless it is thinner than that. What tells a solid from a skin with the same surface.
   std::vector<Vec3> behind;
   double tolerance = 0;       ///< how far a surface point may be from the tree's surface
+  std::vector<RangeCamera> cameras;  ///< the views' cameras (scans without one add none)
 };
+
+/// Whether a face through `point` with outward normal `normal` turns its back on every camera
+/// of `evidence` (by more than a few degrees: a grazing face may still be seen); false when
+/// there is no camera.
+bool faces_away_from_every_view(const RangeEvidence& evidence, const Vec3& point, const Vec3& normal);
 
 /// Samples the evidence of `scans` (at most about `max_surface` surface points, spread evenly),
 /// with surface tolerance `tolerance`. Scans with a camera give empty points along their rays
