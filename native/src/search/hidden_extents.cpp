@@ -41,8 +41,8 @@ void bounding_planes(const Primitive3D& p, const Vec3& n, std::vector<double>& o
   }
 }
 
-// Block `b`'s face on the side `side` of local axis `a`: its outward normal and its offset
-// along it.
+// Face `side` of local axis `a` of a block (or a cylinder's end, along z): its outward normal
+// and its offset along it.
 struct Face {
   Vec3 n;
   double at;
@@ -53,7 +53,7 @@ Face face_of(const Primitive3D& b, int a, int side) {
   return {n, dot(Vec3{b.cx, b.cy, b.cz}, n) + b.dims[a] / 2};
 }
 
-// The block `b` with that face moved to offset `to` along its normal.
+// `b` with that face moved to offset `to` along its normal.
 Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
   const Face f = face_of(b, a, side);
   Primitive3D moved = b;
@@ -120,17 +120,6 @@ std::pair<double, double> cut_span(const PrecedenceGraph& g, int cut, const Vec3
   return {lo, hi};
 }
 
-// The cylinder `c` with its end on side `side` of its axis moved to offset `to` along it.
-Primitive3D with_end_at(const Primitive3D& c, int side, double to) {
-  const Vec3 axis = scale(column(c.rotation.matrix(), 2), side);
-  const double end = dot(Vec3{c.cx, c.cy, c.cz}, axis) + c.dims[2] / 2;
-  Primitive3D moved = c;
-  moved.dims[2] += to - end;
-  const Vec3 shift = scale(axis, (to - end) / 2);
-  moved.cx += shift[0], moved.cy += shift[1], moved.cz += shift[2];
-  return moved;
-}
-
 }  // namespace
 
 PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence) {
@@ -142,12 +131,11 @@ PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& eviden
     SignedPrimitive& hole = graph.nodes[h];
     if (hole.positive || hole.conjectured || hole.primitive.kind != PrimitiveKind3D::Cylinder) continue;
     for (int side : {-1, 1}) {
-      const Vec3 axis = scale(column(hole.primitive.rotation.matrix(), 2), side);
-      const auto [lo, hi] = cut_span(graph, static_cast<int>(h), axis);
-      const double end = dot(Vec3{hole.primitive.cx, hole.primitive.cy, hole.primitive.cz}, axis) +
-                         hole.primitive.dims[2] / 2;
-      if (lo > hi || end >= hi + margin) continue;
-      const Primitive3D through = with_end_at(hole.primitive, side, hi + margin);
+      // A cylinder's end is its face along local z.
+      const Face end = face_of(hole.primitive, 2, side);
+      const auto [lo, hi] = cut_span(graph, static_cast<int>(h), end.n);
+      if (lo > hi || end.at >= hi + margin) continue;
+      const Primitive3D through = with_face_at(hole.primitive, 2, side, hi + margin);
       std::vector<double> d = scorer.distances(through);
       if (scorer.read(graph, &d, static_cast<int>(h)).seen > seen) continue;
       hole.primitive = through;

@@ -21,8 +21,7 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
 /// `graph` with each hole (a negative, unconjectured cylinder) drilled through what it cuts: an
 /// end no view sees moved past the far side of the positive nodes it is subtracted from, as a
 /// machinist drills through unless the hole's bottom is seen; kept when the views do not see the
-/// difference (no surface, empty or behind point of `evidence` agrees less; one sample less for
-/// a face that turns its back on every view, where sensor noise is all there is). Nothing moves when
+/// difference (no surface, empty or behind point of `evidence` agrees less). Nothing moves when
 /// the evidence has no hidden points. Deterministic.
 PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence);
 
