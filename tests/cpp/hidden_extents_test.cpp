@@ -1,12 +1,13 @@
 // Hidden faces aligned with the part's planes, on scans rendered from known trees: a plate's
 // unseen underside goes down to the tangent plane of the rod along its edge, a block's to its
 // own width, a face the view sees does not move, and a hole goes through unless its bottom is
-// seen.
+// seen; a halfspace cut through a block's top becomes the block's own top.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "csgfit/features/range_evidence.h"
+#include "csgfit/refine/range_refine.h"
 #include "csgfit/search/hidden_extents.h"
 #include "range_graphs.h"
 
@@ -121,6 +122,56 @@ TEST(HolesThrough, ABlindHoleWhoseBottomIsSeenStays) {
       evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(bore)}));
   const PrecedenceGraph g = holes_through(plate_minus(bore), evidence);
   EXPECT_NEAR(lowest(g.nodes[1].primitive), 0.45, 1e-9);
+}
+
+// A halfspace through the plate's top plane (z = 0.75), subtracted from `targets`.
+PrecedenceGraph cut_at_top(PrecedenceGraph g, const std::vector<int>& targets,
+                           const Primitive3D& cut = Primitive3D::box(0, 0, 10.75, 40, 40, 20)) {
+  SignedPrimitive half = signed_node(cut, false);
+  half.conjectured = half.halfspace = true;
+  std::vector<PrecedenceArc> arcs;
+  for (int t : targets) arcs.push_back({t, static_cast<int>(g.nodes.size()), ArcKind::Subtracting});
+  return with_node(g, half, arcs);
+}
+
+double top(const Primitive3D& box) { return box.cz + box.dims[2] / 2; }
+
+TEST(FacesFromCuts, AHalfspaceThroughABlocksTopBecomesItsTop) {
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
+  // As the search leaves it: a plate turned by two degrees, reaching above its seen top, which
+  // the cut makes.
+  const Primitive3D tall =
+      Primitive3D::box(0, 0, 0.1, 8, 6, 1.5, Quaternion::from_axis_angle(0, 1, 0, 2));
+  const PrecedenceGraph g =
+      faces_from_cuts(cut_at_top(graph_of({signed_node(tall, true)}), {0}), evidence, evidence_k(evidence));
+  ASSERT_EQ(g.nodes.size(), 1u) << "the cut is gone";
+  const Primitive3D& plate = g.nodes[0].primitive;
+  EXPECT_NEAR(std::abs(plate.rotation.matrix()[2][2]), 1, 1e-12) << "square to the cut's plane";
+  EXPECT_NEAR(top(plate), 0.75, 1e-9) << "its top on that plane";
+  EXPECT_NEAR(plate.cz - plate.dims[2] / 2, 0.1 - 0.75, 0.02) << "its underside where it was";
+}
+
+TEST(FacesFromCuts, ACutThatAlsoTrimsARodStays) {
+  const Primitive3D rod = Primitive3D::cylinder(0, 3, 0.5, 0.75, 8, Quaternion::from_axis_angle(0, 1, 0, 90));
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), Node3D::leaf(rod)}));
+  const Primitive3D tall = Primitive3D::box(0, 0, 0.1, 8, 6, 1.5);
+  const PrecedenceGraph g = faces_from_cuts(
+      cut_at_top(graph_of({signed_node(tall, true), signed_node(rod, true)}), {0, 1}), evidence,
+      evidence_k(evidence));
+  EXPECT_EQ(g.nodes.size(), 3u) << "a rod has no face to take the cut";
+}
+
+TEST(FacesFromCuts, APocketIsNoFace) {
+  // A cut through the top plane that takes only part of the top: a step, not the plate's face.
+  const Primitive3D step = Primitive3D::box(2, 0, 10.75, 4, 40, 20);
+  const Primitive3D tall = Primitive3D::box(0, 0, 0.1, 8, 6, 1.5);
+  const Node3D truth = Node3D::op(NodeKind::Difference, {Node3D::leaf(tall), Node3D::leaf(step)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const PrecedenceGraph g =
+      faces_from_cuts(cut_at_top(graph_of({signed_node(tall, true)}), {0}, step), evidence, evidence_k(evidence));
+  EXPECT_EQ(g.nodes.size(), 2u);
+  EXPECT_NEAR(top(g.nodes[0].primitive), 0.85, 1e-12);
 }
 
 }  // namespace

@@ -176,6 +176,8 @@ void improve_against_views(RangeFitResult& result, std::vector<SignedPrimitive> 
     add_distinct(pool, pocket_proposals(result.graph, evidence, 0.03 * result.diagonal), result.diagonal);
   search_until(0.6);
   result.stats.evaluations = result.stats.trees;
+  // Before the polish: under a cut through its face's plane a block's face is unseen and drifts.
+  result.graph = faces_from_cuts(std::move(result.graph), evidence, k);
   refine_graph(result.graph, evidence, at_fraction(start, o.time_limit, 0.9), cancel);
   prune_by_evidence(result.graph, evidence, k);
   // Last, after the polish: the polish would move a trim's plane to where it takes nothing.

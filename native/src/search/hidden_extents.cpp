@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -17,6 +18,8 @@ namespace {
 constexpr double kParallel = 0.9998;  // cos 1 degree: directions this close are one
 constexpr double kSquare = 0.0175;    // sin 1 degree: directions this close to 90 degrees are square
 constexpr double kReach = 0.5;        // of the block's size along the normal: how far a face moves
+constexpr double kTurn = 0.9986;       // cos 3 degrees: a face this close to a cut's plane is that plane
+constexpr double kSeenSlack = 0.25;   // of the size weight: what dropping a cut may change of the seen
 
 // Offsets along unit `n` of the planes square to `n` that bound `p` (its faces, or its tangent
 // planes where its surface meets them), as the designer's references for a face along `n`.
@@ -120,7 +123,77 @@ std::pair<double, double> cut_span(const PrecedenceGraph& g, int cut, const Vec3
   return {lo, hi};
 }
 
+// The face of halfspace box `cut` that faces against `n` (through which it cuts a block whose
+// face points along `n`), within kTurn; nullopt when none does.
+std::optional<Face> cut_face_against(const Primitive3D& cut, const Vec3& n) {
+  for (int c = 0; c < 3; ++c)
+    for (int side : {-1, 1}) {
+      const Face f = face_of(cut, c, side);
+      if (dot(f.n, n) < -kTurn) return f;
+    }
+  return std::nullopt;
+}
+
+// `b` turned about its centre so that unit `from` (one of its axes) points along unit `to`.
+Primitive3D turned(Primitive3D b, const Vec3& from, const Vec3& to) {
+  const Vec3 axis = cross(from, to);
+  const double degrees = std::atan2(norm(axis), dot(from, to)) * 180 / M_PI;
+  b.rotation = Quaternion::from_axis_angle(axis[0], axis[1], axis[2], degrees) * b.rotation;
+  b.rotation.normalize();
+  return b;
+}
+
+// Block `b` with the face that halfspace `cut` trims turned parallel to the cut's plane and
+// moved onto it, when the cut then takes that whole face (its corners lie inside the cut, or
+// within `near` of it) and nothing else of the block; nullopt otherwise.
+std::optional<Primitive3D> face_at_cut(const Primitive3D& b, const Primitive3D& cut, double near) {
+  if (b.kind != PrimitiveKind3D::Box) return std::nullopt;
+  for (int a = 0; a < 3; ++a)
+    for (int side : {-1, 1}) {
+      const auto plane = cut_face_against(cut, face_of(b, a, side).n);
+      if (!plane) continue;
+      const Primitive3D square = turned(b, face_of(b, a, side).n, scale(plane->n, -1));
+      const Face f = face_of(square, a, side);
+      const double at = -plane->at;  // the plane's offset along f.n
+      if (!(at < f.at && at > f.at - b.dims[a])) continue;
+      const Mat3 r = square.rotation.matrix();
+      const Vec3 centre = add(Vec3{square.cx, square.cy, square.cz}, scale(f.n, b.dims[a] / 2));
+      const int u = (a + 1) % 3, v = (a + 2) % 3;
+      bool covered = true;
+      for (int su : {-1, 1})
+        for (int sv : {-1, 1}) {
+          const Vec3 corner = add(centre, add(scale(column(r, u), su * b.dims[u] / 2),
+                                              scale(column(r, v), sv * b.dims[v] / 2)));
+          covered &= cut.signed_distance(corner[0], corner[1], corner[2]) < near;
+        }
+      if (covered) return with_face_at(square, a, side, at);
+    }
+  return std::nullopt;
+}
+
 }  // namespace
+
+PrecedenceGraph faces_from_cuts(PrecedenceGraph graph, const RangeEvidence& evidence, double k) {
+  for (int h = static_cast<int>(graph.nodes.size()) - 1; h >= 0; --h) {
+    const SignedPrimitive& cut = graph.nodes[static_cast<std::size_t>(h)];
+    if (cut.positive || !cut.halfspace || cut.primitive.kind != PrimitiveKind3D::Box) continue;
+    PrecedenceGraph trial = graph;
+    bool every = true;
+    for (const PrecedenceArc& arc : graph.arcs) {
+      if (arc.to != h || arc.kind != ArcKind::Subtracting) continue;
+      const auto moved = face_at_cut(graph.nodes[static_cast<std::size_t>(arc.from)].primitive, cut.primitive,
+                                     evidence.tolerance);
+      every &= moved.has_value();
+      if (moved) trial.nodes[static_cast<std::size_t>(arc.from)].primitive = *moved;
+    }
+    if (!every) continue;
+    trial = without_node(trial, h);
+    // Whole graphs, read afresh: the scorer knows nodes by index and the cut's removal renumbers.
+    ViewScorer before(evidence, graph.nodes), after(evidence, trial.nodes);
+    if (after.read(trial).seen <= before.read(graph).seen + kSeenSlack * k) graph = std::move(trial);
+  }
+  return graph;
+}
 
 PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence) {
   if (evidence.hidden.empty() || graph.nodes.empty()) return graph;

@@ -25,4 +25,11 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
 /// the evidence has no hidden points. Deterministic.
 PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence);
 
+/// `graph` with each halfspace cut (SignedPrimitive::halfspace) that trims only blocks, each
+/// through a whole face parallel to its plane, taken into those blocks: their faces moved to the
+/// plane and the cut dropped, when the views do not see the difference (within a quarter of the
+/// size weight `k`). A block's own face is then what the views hold, where under a cut through
+/// its plane the block could drift unseen. Deterministic.
+PrecedenceGraph faces_from_cuts(PrecedenceGraph graph, const RangeEvidence& evidence, double k);
+
 }  // namespace csgfit
