@@ -38,6 +38,27 @@ TEST(HiddenExtents, AnUnseenUndersideMeetsTheRodsTangentPlane) {
   EXPECT_NEAR(g.nodes[0].primitive.dims[0], 8, 1e-9);
 }
 
+TEST(HiddenExtents, RodsThatAgreeOutvoteOneReadThin) {
+  // Rods of radius 0.75 along all four edges, as a fit leaves them: three within 0.01, the
+  // one along the near x edge read 0.6 thin. Its tangent plane is the nearest, not the part's.
+  const auto rod_x = [](double y, double r) {
+    return Primitive3D::cylinder(0, y, 0, r, 8, Quaternion::from_axis_angle(0, 1, 0, 90));
+  };
+  const auto rod_y = [](double x, double r) {
+    return Primitive3D::cylinder(x, 0, 0, r, 6, Quaternion::from_axis_angle(1, 0, 0, 90));
+  };
+  Node3D truth = Node3D::leaf(kPlate);
+  for (const Primitive3D& r : {rod_x(3, 0.75), rod_x(-3, 0.75), rod_y(4, 0.75), rod_y(-4, 0.75)})
+    truth = Node3D::op(NodeKind::Union, {truth, Node3D::leaf(r)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const Primitive3D thin = Primitive3D::box(0, 0, 0.225, 8, 6, 1.05);
+  const PrecedenceGraph g = align_hidden_faces(
+      graph_of({signed_node(thin, true), signed_node(rod_x(3, 0.74), true), signed_node(rod_x(-3, 0.76), true),
+                signed_node(rod_y(4, 0.6), true), signed_node(rod_y(-4, 0.75), true)}),
+      evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 0.011) << "on the three rods' plane, not at -0.6";
+}
+
 TEST(HiddenExtents, AFaceTheViewSeesStays) {
   // A block beside the plate reaching lower: the view sees under the plate's near edges, so
   // its underside may not go down to the block's.

@@ -67,8 +67,9 @@ Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
 }
 
 // Candidate offsets for block `b`'s face (axis a, side): the other nodes' planes beyond it,
-// within reach, nearest first.
-std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int side) {
+// within reach, those that more of the part's planes agree with (within `near`) first, then
+// the nearest: four rods along a plate's edges, each fitted a little off, outvote one read thin.
+std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int side, double near) {
   const Primitive3D& block = g.nodes[static_cast<std::size_t>(b)].primitive;
   const Face f = face_of(block, a, side);
   std::vector<double> planes, out;
@@ -87,7 +88,13 @@ std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int sid
     const double grow = block.dims[other] - block.dims[a];
     if (other != a && grow > floor && grow <= block.dims[a]) out.push_back(f.at + grow);
   }
-  std::sort(out.begin(), out.end());
+  const auto support = [&](double o) {
+    return std::count_if(planes.begin(), planes.end(), [&](double q) { return std::abs(q - o) <= near; });
+  };
+  std::vector<std::pair<long, double>> ranked;
+  for (double o : out) ranked.emplace_back(-support(o), o);
+  std::sort(ranked.begin(), ranked.end());
+  for (std::size_t i = 0; i < ranked.size(); ++i) out[i] = ranked[i].second;
   return out;
 }
 
@@ -235,7 +242,7 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
         const Vec3 centre{node.primitive.cx, node.primitive.cy, node.primitive.cz};
         const Vec3 on_face = add(centre, scale(f.n, node.primitive.dims[a] / 2));
         const double slack = faces_away_from_every_view(evidence, on_face, f.n) ? EvidenceSamples::kUnitsPerSample : 0;
-        for (double to : face_targets(graph, static_cast<int>(b), a, side)) {
+        for (double to : face_targets(graph, static_cast<int>(b), a, side, evidence.tolerance)) {
           const Primitive3D moved = with_face_at(node.primitive, a, side, to);
           std::vector<double> d = scorer.distances(moved);
           if (scorer.read(graph, &d, static_cast<int>(b)).seen > seen + slack) continue;

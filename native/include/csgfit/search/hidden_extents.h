@@ -9,10 +9,11 @@
 
 namespace csgfit {
 
-/// `graph` with each positive block's faces moved outwards, each to the nearest plane parallel
-/// to it that another positive, unconjectured node bounds (within half the block's size along
-/// the face's normal) or to where the block is as deep as one of its other sizes (within its
-/// size along the normal: a cube, not a plate made a cube), when the views do not see the
+/// `graph` with each positive block's faces moved outwards, each to a plane parallel to it that
+/// another positive, unconjectured node bounds (within half the block's size along the face's
+/// normal) or to where the block is as deep as one of its other sizes (within its size along
+/// the normal: a cube, not a plate made a cube); the plane that most of the part's planes agree
+/// with (within the evidence's tolerance) first, then the nearest; when the views do not see the
 /// difference (no surface, empty or behind point of `evidence` agrees less; one sample less for
 /// a face that turns its back on every view, where sensor noise is all there is). Nothing
 /// moves when the evidence has no hidden points (a scan without a camera). Deterministic.
