@@ -16,11 +16,10 @@ namespace {
 
 using testing::evidence_of;
 using testing::graph_of;
+using testing::kPlate;
 using testing::signed_node;
 
-// A plate 1.5 thick (z in [-0.75, 0.75]) with a rod of radius 0.75 along its +y edge, turned
-// by half a degree as a fit leaves it.
-const Primitive3D kPlate = Primitive3D::box(0, 0, 0, 8, 6, 1.5);
+// A rod of radius 0.75 along the plate's +y edge, turned by half a degree as a fit leaves it.
 const Primitive3D kRod =
     Primitive3D::cylinder(0, 3, 0, 0.75, 8, Quaternion::from_axis_angle(0, 1, 0, 90.5));
 

@@ -10,6 +10,9 @@
 
 namespace csgfit::testing {
 
+/// A plate 8 x 6 x 1.5 centred at the origin (top at z = 0.75): the part under the tests' view.
+inline const Primitive3D kPlate = Primitive3D::box(0, 0, 0, 8, 6, 1.5);
+
 inline SignedPrimitive signed_node(const Primitive3D& p, bool positive) {
   SignedPrimitive s;
   s.primitive = p;

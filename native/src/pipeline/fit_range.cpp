@@ -12,6 +12,7 @@
 #include "csgfit/eval/range_view.h"
 #include "csgfit/features/range_evidence.h"
 #include "csgfit/refine/range_refine.h"
+#include "csgfit/search/equal_radii.h"
 #include "csgfit/search/graph_search.h"
 #include "csgfit/search/hidden_extents.h"
 #include "csgfit/search/hidden_trim.h"
@@ -182,6 +183,8 @@ void improve_against_views(RangeFitResult& result, std::vector<SignedPrimitive> 
   prune_by_evidence(result.graph, evidence, k);
   // Last, after the polish: the polish would move a trim's plane to where it takes nothing.
   result.graph = trim_hidden(std::move(result.graph), pool, evidence, k, cancel);
+  // Radii before the faces: a plate's underside aligns with its rods' tangent planes.
+  result.graph = equal_radii(std::move(result.graph), evidence, k);
   result.graph = align_hidden_faces(std::move(result.graph), evidence);
   result.graph = holes_through(std::move(result.graph), evidence);
 }
