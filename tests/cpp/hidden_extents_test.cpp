@@ -58,6 +58,25 @@ TEST(HiddenExtents, RodsThatAgreeOutvoteOneReadThin) {
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 0.011) << "on the three rods' plane, not at -0.6";
 }
 
+TEST(HiddenExtents, AnUndersideTheSearchLeftTooDeepComesUpToTheRodsPlane) {
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), Node3D::leaf(kRod)}));
+  // The underside at -3, which no view sees: the smallest extent, then the rod's lowest line.
+  const Primitive3D deep = Primitive3D::box(0, 0, -1.125, 8, 6, 3.75);
+  const PrecedenceGraph g = align_hidden_faces(
+      graph_of({signed_node(deep, true), signed_node(kRod, true)}), evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 1e-9);
+  EXPECT_NEAR(g.nodes[0].primitive.cz + g.nodes[0].primitive.dims[2] / 2, 0.75, 1e-9) << "top stays";
+}
+
+TEST(HiddenExtents, WithNoPlaneToGoToAFaceStaysWhereItWas) {
+  // A plate alone, its underside at -3: the smallest extent has nothing to align with.
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
+  const Primitive3D deep = Primitive3D::box(0, 0, -1.125, 8, 6, 3.75);
+  const PrecedenceGraph g = align_hidden_faces(graph_of({signed_node(deep, true)}), evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -3, 1e-9);
+}
+
 TEST(HiddenExtents, AFaceTheViewSeesStays) {
   // A block beside the plate reaching lower: the view sees under the plate's near edges, so
   // its underside may not go down to the block's.

@@ -66,11 +66,12 @@ Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
   return moved;
 }
 
-// Candidate offsets for block `b`'s face (axis a, side): the other nodes' planes beyond it,
-// within reach, those that more of the part's planes agree with (within `near`) first, then
-// the nearest: four rods along a plate's edges, each fitted a little off, outvote one read thin.
-std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int side, double near) {
-  const Primitive3D& block = g.nodes[static_cast<std::size_t>(b)].primitive;
+// Candidate offsets for the face (axis a, side) of `block`, node `b`: the other nodes' planes
+// beyond it up to offset `until`, those that more of the part's planes agree with (within
+// `near`) first, then the nearest: four rods along a plate's edges, each fitted a little off,
+// outvote one read thin. And the block's own sizes, growing by at most `grow_limit`.
+std::vector<double> face_targets(const PrecedenceGraph& g, const Primitive3D& block, int b, int a, int side,
+                                 double near, double until, double grow_limit) {
   const Face f = face_of(block, a, side);
   std::vector<double> planes, out;
   // Only what the part has: a cut's extent past the material it takes is arbitrary (a hole's
@@ -78,15 +79,14 @@ std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int sid
   for (std::size_t j = 0; j < g.nodes.size(); ++j)
     if (static_cast<int>(j) != b && g.nodes[j].positive && !g.nodes[j].conjectured)
       bounding_planes(g.nodes[j].primitive, f.n, planes);
-  const double reach = kReach * block.dims[a];
   const double floor = 1e-6 * block.dims[a];  // a plane the face already lies on is no move
   for (double o : planes)
-    if (o > f.at + floor && o <= f.at + reach) out.push_back(o);
-  // The block's own sizes: a block as deep as it is wide or tall, up to twice as deep as the
-  // views leave it (a plate seen from above stays a plate).
+    if (o > f.at + floor && o <= until) out.push_back(o);
+  // The block's own sizes: a block as deep as it is wide or tall (a cube seen on two faces),
+  // within the limit (a plate seen from above stays a plate).
   for (int other = 0; other < 3; ++other) {
     const double grow = block.dims[other] - block.dims[a];
-    if (other != a && grow > floor && grow <= block.dims[a]) out.push_back(f.at + grow);
+    if (other != a && grow > floor && grow <= grow_limit) out.push_back(f.at + grow);
   }
   const auto support = [&](double o) {
     return std::count_if(planes.begin(), planes.end(), [&](double q) { return std::abs(q - o) <= near; });
@@ -96,6 +96,22 @@ std::vector<double> face_targets(const PrecedenceGraph& g, int b, int a, int sid
   std::sort(ranked.begin(), ranked.end());
   for (std::size_t i = 0; i < ranked.size(); ++i) out[i] = ranked[i].second;
   return out;
+}
+
+// Block node `b` with its face (axis a, side) moved inwards by halving steps, each kept while
+// the views see no more than `seen`: seed 002's smallest hidden extent, to a sixty-fourth of
+// the block, never thinner than `thinnest`.
+Primitive3D smallest_extent(const PrecedenceGraph& g, ViewScorer& scorer, int b, int a, int side,
+                            double seen, double thinnest) {
+  Primitive3D block = g.nodes[static_cast<std::size_t>(b)].primitive;
+  const double room = block.dims[a] - thinnest;
+  for (double step = room / 2; room > 0 && step >= room / 64; step /= 2) {
+    if (block.dims[a] - step < thinnest) continue;
+    const Primitive3D moved = with_face_at(block, a, side, face_of(block, a, side).at - step);
+    std::vector<double> d = scorer.distances(moved);
+    if (scorer.read(g, &d, b).seen <= seen) block = moved;
+  }
+  return block;
 }
 
 // Half the width of `p` along unit `n`: exact for a box, a ball and a cylinder, the bounding
@@ -115,6 +131,31 @@ double half_width(const Primitive3D& p, const Vec3& n) {
       return along * d[2] / 2 + d[0] * std::sqrt(std::max(0.0, 1 - along * along));
     }
     default: return norm(d) + norm(Vec3{d[0], d[1], 0});
+  }
+}
+
+// Block node `b`'s face (axis a, side) where the designer would have put it: from its smallest
+// hidden extent out to the first of face_targets the views see no difference in (one sample
+// allowed on a face that turns its back on every view, where sensor noise is all there is);
+// where none is, the face stays where the search left it. The targets reach half the block's
+// size past that, and its own sizes twice its depth as found.
+void align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, int a,
+                int side, double seen) {
+  SignedPrimitive& node = graph.nodes[static_cast<std::size_t>(b)];
+  const Primitive3D found = node.primitive;
+  const Face f = face_of(found, a, side);
+  const Vec3 centre{found.cx, found.cy, found.cz};
+  const double slack = faces_away_from_every_view(evidence, add(centre, scale(f.n, found.dims[a] / 2)), f.n)
+                           ? EvidenceSamples::kUnitsPerSample : 0;
+  const Primitive3D smallest = smallest_extent(graph, scorer, b, a, side, seen, 2 * evidence.tolerance);
+  const double until = f.at + kReach * found.dims[a];
+  for (double to : face_targets(graph, smallest, b, a, side, evidence.tolerance, until, found.dims[a])) {
+    const Primitive3D moved = with_face_at(smallest, a, side, to);
+    std::vector<double> d = scorer.distances(moved);
+    if (scorer.read(graph, &d, b).seen > seen + slack) continue;
+    node.primitive = moved;
+    scorer.set_node(b, std::move(d));
+    return;
   }
 }
 
@@ -232,25 +273,10 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
   // moved up across a seen surface covers too few samples to cost a quarter of k.
   const double seen = scorer.read(graph).seen;
   for (std::size_t b = 0; b < graph.nodes.size(); ++b) {
-    SignedPrimitive& node = graph.nodes[b];
-    if (!node.positive || node.conjectured || node.primitive.kind != PrimitiveKind3D::Box) continue;
+    if (!graph.nodes[b].positive || graph.nodes[b].conjectured || graph.nodes[b].primitive.kind != PrimitiveKind3D::Box)
+      continue;
     for (int a = 0; a < 3; ++a)
-      for (int side : {-1, 1}) {
-        // A face that turns its back on every view may pass one sample the noise put on the
-        // wrong side; one a view looks at may not.
-        const Face f = face_of(node.primitive, a, side);
-        const Vec3 centre{node.primitive.cx, node.primitive.cy, node.primitive.cz};
-        const Vec3 on_face = add(centre, scale(f.n, node.primitive.dims[a] / 2));
-        const double slack = faces_away_from_every_view(evidence, on_face, f.n) ? EvidenceSamples::kUnitsPerSample : 0;
-        for (double to : face_targets(graph, static_cast<int>(b), a, side, evidence.tolerance)) {
-          const Primitive3D moved = with_face_at(node.primitive, a, side, to);
-          std::vector<double> d = scorer.distances(moved);
-          if (scorer.read(graph, &d, static_cast<int>(b)).seen > seen + slack) continue;
-          node.primitive = moved;
-          scorer.set_node(static_cast<int>(b), std::move(d));
-          break;
-        }
-      }
+      for (int side : {-1, 1}) align_face(graph, scorer, evidence, static_cast<int>(b), a, side, seen);
   }
   return graph;
 }

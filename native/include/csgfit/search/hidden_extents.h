@@ -9,14 +9,17 @@
 
 namespace csgfit {
 
-/// `graph` with each positive block's faces moved outwards, each to a plane parallel to it that
-/// another positive, unconjectured node bounds (within half the block's size along the face's
-/// normal) or to where the block is as deep as one of its other sizes (within its size along
-/// the normal: a cube, not a plate made a cube); the plane that most of the part's planes agree
-/// with (within the evidence's tolerance) first, then the nearest; when the views do not see the
-/// difference (no surface, empty or behind point of `evidence` agrees less; one sample less for
-/// a face that turns its back on every view, where sensor noise is all there is). Nothing
-/// moves when the evidence has no hidden points (a scan without a camera). Deterministic.
+/// `graph` with each positive block's faces where a designer would have put them: each face
+/// first moves in to seed 002's smallest hidden extent (as far as the views see no
+/// difference), then out to a plane parallel to it that another positive, unconjectured node
+/// bounds (up to half the block's size past where the face was) or to where the block is as
+/// deep as one of its other sizes (growing by at most its depth as found: a cube, not a plate
+/// made a cube); the plane that most of the part's planes agree with (within the evidence's
+/// tolerance) first, then the nearest; each when the views do not see the difference (no
+/// surface, empty or behind point of `evidence` agrees less; one sample less for a face that
+/// turns its back on every view, where sensor noise is all there is). A face with no such plane
+/// stays where it was. Nothing moves when the evidence has no hidden points (a scan without a
+/// camera). Deterministic.
 PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence);
 
 /// `graph` with each hole (a negative, unconjectured cylinder) drilled through what it cuts: an
