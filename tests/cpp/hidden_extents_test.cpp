@@ -1,7 +1,8 @@
 // Hidden faces aligned with the part's planes, on scans rendered from known trees: a plate's
 // unseen underside goes down to the tangent plane of the rod along its edge, a block's to its
 // own width, a face the view sees does not move, and a hole goes through unless its bottom is
-// seen; a halfspace cut through a block's top becomes the block's own top.
+// seen; a leg's hidden top goes up to the plate it carries; a halfspace cut through a block's
+// top becomes the block's own top.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -129,6 +130,32 @@ TEST(HiddenExtents, NothingWithoutACamera) {
   const PrecedenceGraph g = align_hidden_faces(
       graph_of({signed_node(thin, true), signed_node(kRod, true)}), evidence);
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.3, 1e-9);
+}
+
+double top_end(const Primitive3D& vertical) { return vertical.cz + vertical.dims[2] / 2; }
+
+TEST(HiddenExtents, LegsGoUpToTheTopTheyCarry) {
+  // Four legs of radius 0.3 under the plate, inset by 1: the plate hides their upper ends.
+  Node3D truth = Node3D::leaf(kPlate);
+  PrecedenceGraph g = graph_of({signed_node(kPlate, true)});
+  for (double x : {-3.0, 3.0})
+    for (double y : {-2.0, 2.0}) {
+      truth = Node3D::op(NodeKind::Union, {truth, Node3D::leaf(Primitive3D::cylinder(x, y, -2.75, 0.3, 4))});
+      // As the view leaves them: ending 0.55 below the plate, where no ray reaches.
+      g = with_node(g, signed_node(Primitive3D::cylinder(x, y, -3.025, 0.3, 3.45), true), {});
+    }
+  const PrecedenceGraph out = align_hidden_faces(g, evidence_of(truth));
+  for (int i = 1; i <= 4; ++i) EXPECT_NEAR(top_end(out.nodes[i].primitive), -0.75, 1e-9) << "leg " << i;
+}
+
+TEST(HiddenExtents, APostBesideThePlateDoesNotReachItsPlane) {
+  // A post standing beside the plate, its top seen at 0: the plate's top plane is no landing.
+  const Primitive3D post = Primitive3D::cylinder(6, 0, -2, 0.4, 4);
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), Node3D::leaf(post)}));
+  const PrecedenceGraph out =
+      align_hidden_faces(graph_of({signed_node(kPlate, true), signed_node(post, true)}), evidence);
+  EXPECT_NEAR(top_end(out.nodes[1].primitive), 0, 1e-12);
 }
 
 // The plate with a hole cut from it: node 0 the plate, node 1 the hole.

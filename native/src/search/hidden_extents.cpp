@@ -159,6 +159,43 @@ void align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence&
   }
 }
 
+// Positive cylinder node `c`'s end (side) moved out to the nearest face of a block that its
+// axis then meets (within `near` of that block): a leg no view sees the top of goes up to the
+// underside of the top it carries, a post down to the plate it stands on; within the
+// cylinder's own length, when the views see no more than `seen` (one sample more on an end that
+// turns its back on every view).
+void extend_to_block(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int c, int side,
+                     double seen) {
+  SignedPrimitive& node = graph.nodes[static_cast<std::size_t>(c)];
+  const Primitive3D& leg = node.primitive;
+  const Face end = face_of(leg, 2, side);
+  const Vec3 centre{leg.cx, leg.cy, leg.cz};
+  std::vector<std::pair<double, int>> planes;  // offset along end.n, the block it bounds
+  for (std::size_t j = 0; j < graph.nodes.size(); ++j) {
+    const SignedPrimitive& other = graph.nodes[j];
+    if (static_cast<int>(j) == c || !other.positive || other.conjectured || other.primitive.kind != PrimitiveKind3D::Box)
+      continue;
+    std::vector<double> offsets;
+    bounding_planes(other.primitive, end.n, offsets);
+    for (double o : offsets)
+      if (o > end.at + 1e-6 * leg.dims[2] && o <= end.at + leg.dims[2]) planes.emplace_back(o, static_cast<int>(j));
+  }
+  std::sort(planes.begin(), planes.end());
+  const double slack = faces_away_from_every_view(evidence, add(centre, scale(end.n, leg.dims[2] / 2)), end.n)
+                           ? EvidenceSamples::kUnitsPerSample : 0;
+  for (const auto& [to, block] : planes) {
+    const Vec3 landing = add(centre, scale(end.n, to - dot(centre, end.n)));
+    const Primitive3D& b = graph.nodes[static_cast<std::size_t>(block)].primitive;
+    if (b.signed_distance(landing[0], landing[1], landing[2]) > evidence.tolerance) continue;
+    const Primitive3D moved = with_face_at(leg, 2, side, to);
+    std::vector<double> d = scorer.distances(moved);
+    if (scorer.read(graph, &d, c).seen > seen + slack) continue;
+    node.primitive = moved;
+    scorer.set_node(c, std::move(d));
+    return;
+  }
+}
+
 // Where along unit `axis` the positive nodes cut by node `cut` begin and end.
 std::pair<double, double> cut_span(const PrecedenceGraph& g, int cut, const Vec3& axis) {
   double lo = 1e300, hi = -1e300;
@@ -273,10 +310,13 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
   // moved up across a seen surface covers too few samples to cost a quarter of k.
   const double seen = scorer.read(graph).seen;
   for (std::size_t b = 0; b < graph.nodes.size(); ++b) {
-    if (!graph.nodes[b].positive || graph.nodes[b].conjectured || graph.nodes[b].primitive.kind != PrimitiveKind3D::Box)
-      continue;
-    for (int a = 0; a < 3; ++a)
-      for (int side : {-1, 1}) align_face(graph, scorer, evidence, static_cast<int>(b), a, side, seen);
+    const SignedPrimitive& node = graph.nodes[b];
+    if (!node.positive || node.conjectured) continue;
+    if (node.primitive.kind == PrimitiveKind3D::Box)
+      for (int a = 0; a < 3; ++a)
+        for (int side : {-1, 1}) align_face(graph, scorer, evidence, static_cast<int>(b), a, side, seen);
+    if (node.primitive.kind == PrimitiveKind3D::Cylinder)
+      for (int side : {-1, 1}) extend_to_block(graph, scorer, evidence, static_cast<int>(b), side, seen);
   }
   return graph;
 }

@@ -18,7 +18,9 @@ namespace csgfit {
 /// tolerance) first, then the nearest; each when the views do not see the difference (no
 /// surface, empty or behind point of `evidence` agrees less; one sample less for a face that
 /// turns its back on every view, where sensor noise is all there is). A face with no such plane
-/// stays where it was. Nothing moves when the evidence has no hidden points (a scan without a
+/// stays where it was. Each positive cylinder's end no view sees moves out, within the
+/// cylinder's length, to the nearest face of a block its axis then meets (a table's leg up to
+/// the top it carries). Nothing moves when the evidence has no hidden points (a scan without a
 /// camera). Deterministic.
 PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence);
 
