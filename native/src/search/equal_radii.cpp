@@ -20,7 +20,6 @@ constexpr double kNextRatio = 1.2;    // sorted radii this close to the one befo
 constexpr double kGroupRatio = 1.5;   // ... and no group spans more
 constexpr std::size_t kMinGroup = 3;  // two radii do not say which one is the designer's
 constexpr double kSame = 0.005;       // relative: radii this close are equal already
-constexpr double kSeenSlack = 0.25;   // of the size weight: what the equal radius may change of the seen
 
 bool is_round(const SignedPrimitive& n) {
   return !n.conjectured &&

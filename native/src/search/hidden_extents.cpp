@@ -19,7 +19,6 @@ constexpr double kParallel = 0.9998;  // cos 1 degree: directions this close are
 constexpr double kSquare = 0.0175;    // sin 1 degree: directions this close to 90 degrees are square
 constexpr double kReach = 0.5;        // of the block's size along the normal: how far a face moves
 constexpr double kTurn = 0.9986;       // cos 3 degrees: a face this close to a cut's plane is that plane
-constexpr double kSeenSlack = 0.25;   // of the size weight: what dropping a cut may change of the seen
 
 // Offsets along unit `n` of the planes square to `n` that bound `p` (its faces, or its tangent
 // planes where its surface meets them), as the designer's references for a face along `n`.
@@ -64,6 +63,14 @@ Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
   const Vec3 shift = scale(f.n, (to - f.at) / 2);
   moved.cx += shift[0], moved.cy += shift[1], moved.cz += shift[2];
   return moved;
+}
+
+// The seen mismatch a move of face (axis a, side) of `p` may add: one sample where the face
+// turns its back on every view (sensor noise is all there is), none where a view looks at it.
+double noise_slack(const RangeEvidence& evidence, const Primitive3D& p, int a, int side) {
+  const Face f = face_of(p, a, side);
+  const Vec3 on_face = add(Vec3{p.cx, p.cy, p.cz}, scale(f.n, p.dims[a] / 2));
+  return faces_away_from_every_view(evidence, on_face, f.n) ? EvidenceSamples::kUnitsPerSample : 0;
 }
 
 // Candidate offsets for the face (axis a, side) of `block`, node `b`: the other nodes' planes
@@ -144,9 +151,7 @@ void align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence&
   SignedPrimitive& node = graph.nodes[static_cast<std::size_t>(b)];
   const Primitive3D found = node.primitive;
   const Face f = face_of(found, a, side);
-  const Vec3 centre{found.cx, found.cy, found.cz};
-  const double slack = faces_away_from_every_view(evidence, add(centre, scale(f.n, found.dims[a] / 2)), f.n)
-                           ? EvidenceSamples::kUnitsPerSample : 0;
+  const double slack = noise_slack(evidence, found, a, side);
   const Primitive3D smallest = smallest_extent(graph, scorer, b, a, side, seen, 2 * evidence.tolerance);
   const double until = f.at + kReach * found.dims[a];
   for (double to : face_targets(graph, smallest, b, a, side, evidence.tolerance, until, found.dims[a])) {
@@ -181,8 +186,7 @@ void extend_to_block(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvid
       if (o > end.at + 1e-6 * leg.dims[2] && o <= end.at + leg.dims[2]) planes.emplace_back(o, static_cast<int>(j));
   }
   std::sort(planes.begin(), planes.end());
-  const double slack = faces_away_from_every_view(evidence, add(centre, scale(end.n, leg.dims[2] / 2)), end.n)
-                           ? EvidenceSamples::kUnitsPerSample : 0;
+  const double slack = noise_slack(evidence, leg, 2, side);
   for (const auto& [to, block] : planes) {
     const Vec3 landing = add(centre, scale(end.n, to - dot(centre, end.n)));
     const Primitive3D& b = graph.nodes[static_cast<std::size_t>(block)].primitive;
@@ -229,15 +233,16 @@ Primitive3D turned(Primitive3D b, const Vec3& from, const Vec3& to) {
 }
 
 // Block `b` with the face that halfspace `cut` trims turned parallel to the cut's plane and
-// moved onto it, when the cut then takes that whole face (its corners lie inside the cut, or
-// within `near` of it) and nothing else of the block; nullopt otherwise.
+// moved onto it, when the plane lies inside the block and the cut then takes that whole face
+// (its corners lie inside the cut, or within `near` of it); nullopt otherwise.
 std::optional<Primitive3D> face_at_cut(const Primitive3D& b, const Primitive3D& cut, double near) {
   if (b.kind != PrimitiveKind3D::Box) return std::nullopt;
   for (int a = 0; a < 3; ++a)
     for (int side : {-1, 1}) {
-      const auto plane = cut_face_against(cut, face_of(b, a, side).n);
+      const Vec3 n = face_of(b, a, side).n;
+      const auto plane = cut_face_against(cut, n);
       if (!plane) continue;
-      const Primitive3D square = turned(b, face_of(b, a, side).n, scale(plane->n, -1));
+      const Primitive3D square = turned(b, n, scale(plane->n, -1));
       const Face f = face_of(square, a, side);
       const double at = -plane->at;  // the plane's offset along f.n
       if (!(at < f.at && at > f.at - b.dims[a])) continue;
@@ -259,6 +264,9 @@ std::optional<Primitive3D> face_at_cut(const Primitive3D& b, const Primitive3D& 
 }  // namespace
 
 PrecedenceGraph faces_from_cuts(PrecedenceGraph graph, const RangeEvidence& evidence, double k) {
+  // Whole graphs, read afresh: a scorer knows nodes by index, and dropping a cut renumbers them.
+  const auto seen_of = [&](const PrecedenceGraph& g) { return ViewScorer(evidence, g.nodes).read(g).seen; };
+  double seen = graph.nodes.empty() ? 0 : seen_of(graph);
   for (int h = static_cast<int>(graph.nodes.size()) - 1; h >= 0; --h) {
     const SignedPrimitive& cut = graph.nodes[static_cast<std::size_t>(h)];
     if (cut.positive || !cut.halfspace || cut.primitive.kind != PrimitiveKind3D::Box) continue;
@@ -273,9 +281,10 @@ PrecedenceGraph faces_from_cuts(PrecedenceGraph graph, const RangeEvidence& evid
     }
     if (!every) continue;
     trial = without_node(trial, h);
-    // Whole graphs, read afresh: the scorer knows nodes by index and the cut's removal renumbers.
-    ViewScorer before(evidence, graph.nodes), after(evidence, trial.nodes);
-    if (after.read(trial).seen <= before.read(graph).seen + kSeenSlack * k) graph = std::move(trial);
+    const double trial_seen = seen_of(trial);
+    if (trial_seen > seen + kSeenSlack * k) continue;
+    graph = std::move(trial);
+    seen = trial_seen;
   }
   return graph;
 }

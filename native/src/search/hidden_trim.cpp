@@ -17,7 +17,6 @@ using namespace linalg;
 
 namespace {
 
-constexpr double kSeenSlack = 0.25;     // of the size weight: what a trim may change of the seen
 constexpr double kTrimShare = 0.05;     // of the tree's hidden volume: what a trim must take
 constexpr double kTargetShare = 0.01;   // ... and what each primitive it cuts must give up
 

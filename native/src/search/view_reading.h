@@ -14,6 +14,10 @@
 
 namespace csgfit {
 
+/// Of the size weight k: how much a change made after the search (a hidden trim, a cut taken
+/// into a block's face, one radius for several) may change what the views see.
+constexpr double kSeenSlack = 0.25;
+
 struct Reading {
   double seen = std::numeric_limits<double>::infinity();  // seen mismatch + behind points outside
   std::size_t hidden = 0;                                   // hidden samples inside the tree
