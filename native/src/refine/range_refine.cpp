@@ -105,24 +105,44 @@ const std::vector<double>& DistanceComposer::compose_from(const Node3D& tree,
   for (auto& level : levels_) level.resize(samples);
   from_ = std::min(from, samples);
   std::size_t next = 0;
-  into(tree, leaves, next, 1, levels_[0]);
+  const double* root = into(tree, leaves, next, 1, levels_[0]);
+  if (root != levels_[0].data())
+    std::copy(root + from_, root + samples, levels_[0].begin() + static_cast<std::ptrdiff_t>(from_));
   return levels_[0];
 }
 
-// `out` takes the first child's distances; level `level` holds each further child's in turn.
-void DistanceComposer::into(const Node3D& node, const std::vector<const double*>& leaves,
-                            std::size_t& next, std::size_t level, std::vector<double>& out) {
-  if (node.is_leaf()) {
-    const double* d = leaves[next++];
-    std::copy(d + from_, d + out.size(), out.begin() + static_cast<std::ptrdiff_t>(from_));
-    return;
+namespace {
+
+// out[s] = a[s] (op) b[s] over [from, n): one loop per operation, so that each vectorises.
+void compose_span(NodeKind kind, const double* a, const double* b, double* out, std::size_t from,
+                  std::size_t n) {
+  switch (kind) {
+    case NodeKind::Difference:
+      for (std::size_t s = from; s < n; ++s) out[s] = a[s] > -b[s] ? a[s] : -b[s];
+      return;
+    case NodeKind::Intersection:
+      for (std::size_t s = from; s < n; ++s) out[s] = a[s] > b[s] ? a[s] : b[s];
+      return;
+    case NodeKind::Union:
+    case NodeKind::Primitive: break;
   }
-  into(node.children.front(), leaves, next, level + 1, out);
-  std::vector<double>& other = levels_[level];
+  for (std::size_t s = from; s < n; ++s) out[s] = a[s] < b[s] ? a[s] : b[s];
+}
+
+}  // namespace
+
+// The node's distances: a leaf's own array (read in place, never copied), else composed into
+// `out`, with level `level` holding each further child's in turn.
+const double* DistanceComposer::into(const Node3D& node, const std::vector<const double*>& leaves,
+                                     std::size_t& next, std::size_t level, std::vector<double>& out) {
+  if (node.is_leaf()) return leaves[next++];
+  const double* so_far = into(node.children.front(), leaves, next, level + 1, out);
   for (std::size_t c = 1; c < node.children.size(); ++c) {
-    into(node.children[c], leaves, next, level + 1, other);
-    for (std::size_t s = from_; s < out.size(); ++s) out[s] = compose_distance(node.kind, out[s], other[s]);
+    const double* other = into(node.children[c], leaves, next, level + 1, levels_[level]);
+    compose_span(node.kind, so_far, other, out.data(), from_, out.size());
+    so_far = out.data();
   }
+  return so_far;
 }
 
 Mismatch EvidenceSamples::mismatch(const double* tree, const double* unconjectured) const {

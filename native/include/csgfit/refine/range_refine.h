@@ -65,8 +65,8 @@ class DistanceComposer {
                                           std::size_t samples, std::size_t from);
 
  private:
-  void into(const Node3D& node, const std::vector<const double*>& leaves, std::size_t& next,
-            std::size_t level, std::vector<double>& out);
+  const double* into(const Node3D& node, const std::vector<const double*>& leaves,
+                     std::size_t& next, std::size_t level, std::vector<double>& out);
   std::vector<std::vector<double>> levels_;
   std::size_t from_ = 0;
 };
