@@ -2,7 +2,7 @@
 // unseen underside goes down to the tangent plane of the rod along its edge, a block's to its
 // own width, a face the view sees does not move, and a hole goes through unless its bottom is
 // seen; a leg's hidden top goes up to the plate it carries; a halfspace cut through a block's
-// top becomes the block's own top.
+// top becomes the block's own top; a cut that stops a hair short of a face goes through it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -188,6 +188,31 @@ TEST(HolesThrough, ABlindHoleWhoseBottomIsSeenStays) {
       evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(bore)}));
   const PrecedenceGraph g = holes_through(plate_minus(bore), evidence);
   EXPECT_NEAR(lowest(g.nodes[1].primitive), 0.45, 1e-9);
+}
+
+// A notch through the plate's corner, x > 2.5 and y > 1.5, and the same cut as a fit reads it:
+// its top a hair under the plate's, which leaves a skin over the notch.
+const Primitive3D kNotch = Primitive3D::box(4, 3, 0, 3, 3, 3);
+const Primitive3D kNotchShort = Primitive3D::box(4, 3, -0.3775, 3, 3, 2.245);
+
+double top_of(const Primitive3D& box) { return box.cz + box.dims[2] / 2; }
+
+TEST(ClearSkins, ACutEndingAHairUnderTheTopGoesThrough) {
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(kNotch)}));
+  ASSERT_LT(top_of(kNotchShort), 0.75);
+  const PrecedenceGraph g = clear_skins(plate_minus(kNotchShort), evidence, evidence_k(evidence));
+  EXPECT_GT(top_of(g.nodes[1].primitive), 0.75) << "no skin over the notch";
+  EXPECT_LE(top_of(g.nodes[1].primitive), 0.75 + evidence.tolerance + 1e-9) << "and no further";
+  EXPECT_NEAR(bottom(g.nodes[1].primitive), bottom(kNotchShort), 1e-12) << "its other faces stay";
+}
+
+TEST(ClearSkins, ACutUnderASeenFaceStays) {
+  // The plate is whole: the view sees its top over the cut, so the skin is the part's top.
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
+  const Primitive3D under = Primitive3D::box(0, 0, -0.0025, 3, 3, 1.495);
+  const PrecedenceGraph g = clear_skins(plate_minus(under), evidence, evidence_k(evidence));
+  EXPECT_NEAR(top_of(g.nodes[1].primitive), top_of(under), 1e-12);
 }
 
 // A halfspace through the plate's top plane (z = 0.75), subtracted from `targets`.

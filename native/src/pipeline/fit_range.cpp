@@ -187,6 +187,7 @@ void improve_against_views(RangeFitResult& result, std::vector<SignedPrimitive> 
   result.graph = equal_radii(std::move(result.graph), evidence, k);
   result.graph = align_hidden_faces(std::move(result.graph), evidence);
   result.graph = holes_through(std::move(result.graph), evidence);
+  result.graph = clear_skins(std::move(result.graph), evidence, k);
 }
 
 bool report(const ProgressCallback& progress, double fraction, double seconds,

@@ -289,6 +289,41 @@ PrecedenceGraph faces_from_cuts(PrecedenceGraph graph, const RangeEvidence& evid
   return graph;
 }
 
+// Where face `f` of block cut `cut` goes to leave no skin: `margin` past the face, parallel to
+// it, of a positive it is subtracted from that it stops short of, or passes, by less than
+// `margin` (a cut drawn to a block's face and read a hair inside leaves a sheet that OpenSCAD
+// and OCCT render, and a view sees as a silhouette); nullopt when it leaves none.
+std::optional<double> past_skins(const PrecedenceGraph& g, int cut, const Face& f, double margin) {
+  std::optional<double> to;
+  for (const PrecedenceArc& arc : g.arcs) {
+    if (arc.to != cut || arc.kind != ArcKind::Subtracting) continue;
+    std::vector<double> planes;
+    bounding_planes(g.nodes[static_cast<std::size_t>(arc.from)].primitive, f.n, planes);
+    if (planes.empty()) continue;
+    const double far = *std::max_element(planes.begin(), planes.end());
+    if (std::abs(f.at - far) < margin && (!to || *to < far + margin)) to = far + margin;
+  }
+  return to;
+}
+
+// Each face of block cut `c` moved past the skins it leaves (past_skins), when the views see
+// no more than `slack` of difference from the graph's reading `seen` as it came.
+void clear_skins_of(PrecedenceGraph& graph, int c, ViewScorer& scorer, double seen, double margin,
+                    double slack) {
+  for (int a = 0; a < 3; ++a)
+    for (int side : {-1, 1}) {
+      const Primitive3D& cut = graph.nodes[static_cast<std::size_t>(c)].primitive;
+      const Face f = face_of(cut, a, side);
+      const std::optional<double> to = past_skins(graph, c, f, margin);
+      if (!to || *to <= f.at) continue;
+      const Primitive3D cleared = with_face_at(cut, a, side, *to);
+      std::vector<double> d = scorer.distances(cleared);
+      if (scorer.read(graph, &d, c).seen > seen + slack) continue;
+      graph.nodes[static_cast<std::size_t>(c)].primitive = cleared;
+      scorer.set_node(c, std::move(d));
+    }
+}
+
 PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence) {
   if (evidence.hidden.empty() || graph.nodes.empty()) return graph;
   ViewScorer scorer(evidence, graph.nodes);
@@ -309,6 +344,18 @@ PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& eviden
       scorer.set_node(static_cast<int>(h), std::move(d));
     }
   }
+  return graph;
+}
+
+PrecedenceGraph clear_skins(PrecedenceGraph graph, const RangeEvidence& evidence, double k) {
+  if (graph.nodes.empty()) return graph;
+  ViewScorer scorer(evidence, graph.nodes);
+  const double seen = scorer.read(graph).seen;
+  // The surface samples a skin held where the cut's walls overlap a seen face, read a hair
+  // off, may go: within a quarter of k, as faces_from_cuts allows.
+  for (std::size_t c = 0; c < graph.nodes.size(); ++c)
+    if (!graph.nodes[c].positive && graph.nodes[c].primitive.kind == PrimitiveKind3D::Box)
+      clear_skins_of(graph, static_cast<int>(c), scorer, seen, evidence.tolerance, k / 4);
   return graph;
 }
 

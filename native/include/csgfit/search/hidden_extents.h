@@ -31,6 +31,13 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
 /// the evidence has no hidden points. Deterministic.
 PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence);
 
+/// `graph` with each block cut (conjectured too) clear of the skins it leaves: a face that ends
+/// within the evidence's tolerance of a parallel face of a positive it is subtracted from (a
+/// cut drawn to a block's face and read a hair short) moved a tolerance past it, when the views
+/// see a difference within a quarter of the size weight `k`. A skin is thinner than the views
+/// can tell, yet OpenSCAD and OCCT render it and a sensor sees it as silhouette. Deterministic.
+PrecedenceGraph clear_skins(PrecedenceGraph graph, const RangeEvidence& evidence, double k);
+
 /// `graph` with each halfspace cut (SignedPrimitive::halfspace) that trims only blocks, each
 /// through a whole face parallel to its plane, taken into those blocks: their faces moved to the
 /// plane and the cut dropped, when the views do not see the difference (within a quarter of the
