@@ -1,7 +1,7 @@
 // Hidden faces aligned with the part's planes, on scans rendered from known trees: a plate's
 // unseen underside goes down to the tangent plane of the rod along its edge, a block's to its
-// own width, a face the view sees does not move, and a hole goes through unless its bottom is
-// seen; a leg's hidden top goes up to the plate it carries; a halfspace cut through a block's
+// own width, a face the view sees does not move, and a hole or a pocket goes through unless its
+// bottom is seen; a leg's hidden top goes up to the plate it carries; a halfspace cut through a block's
 // top becomes the block's own top; a cut that stops a hair short of a face goes through it.
 #include <gtest/gtest.h>
 
@@ -188,6 +188,28 @@ TEST(HolesThrough, ABlindHoleWhoseBottomIsSeenStays) {
       evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(bore)}));
   const PrecedenceGraph g = holes_through(plate_minus(bore), evidence);
   EXPECT_NEAR(lowest(g.nodes[1].primitive), 0.45, 1e-9);
+}
+
+TEST(HolesThrough, APocketWhoseFloorNoViewSeesGoesThrough) {
+  // A slot through the plate's +y edge, read as a pocket whose floor the plate's wall hides.
+  const Primitive3D slot = Primitive3D::box(0, 3, 0, 2, 2, 3);
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(slot)}));
+  SignedPrimitive pocket = signed_node(Primitive3D::box(0, 3, 0.25, 2, 2, 1.5), false);
+  pocket.conjectured = true;
+  const PrecedenceGraph g =
+      with_node(graph_of({signed_node(kPlate, true)}), pocket, {{0, 1, ArcKind::Subtracting}});
+  const PrecedenceGraph through = holes_through(g, evidence);
+  EXPECT_LT(lowest(through.nodes[1].primitive), -0.75) << "through the plate's underside";
+  EXPECT_NEAR(through.nodes[1].primitive.dims[0], 2, 1e-12) << "its seen walls stay";
+}
+
+TEST(HolesThrough, APocketWhoseFloorIsSeenStays) {
+  const Primitive3D pocket = Primitive3D::box(0, 0, 0.75, 2, 2, 1);
+  const RangeEvidence evidence =
+      evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(pocket)}));
+  const PrecedenceGraph g = holes_through(plate_minus(pocket), evidence);
+  EXPECT_NEAR(lowest(g.nodes[1].primitive), 0.25, 1e-9);
 }
 
 // A notch through the plate's corner, x > 2.5 and y > 1.5, and the same cut as a fit reads it:

@@ -331,18 +331,22 @@ PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& eviden
   const double margin = evidence.tolerance;
   for (std::size_t h = 0; h < graph.nodes.size(); ++h) {
     SignedPrimitive& hole = graph.nodes[h];
-    if (hole.positive || hole.conjectured || hole.primitive.kind != PrimitiveKind3D::Cylinder) continue;
-    for (int side : {-1, 1}) {
-      // A cylinder's end is its face along local z.
-      const Face end = face_of(hole.primitive, 2, side);
-      const auto [lo, hi] = cut_span(graph, static_cast<int>(h), end.n);
-      if (lo > hi || end.at >= hi + margin) continue;
-      const Primitive3D through = with_face_at(hole.primitive, 2, side, hi + margin);
-      std::vector<double> d = scorer.distances(through);
-      if (scorer.read(graph, &d, static_cast<int>(h)).seen > seen) continue;
-      hole.primitive = through;
-      scorer.set_node(static_cast<int>(h), std::move(d));
-    }
+    if (hole.positive) continue;
+    // A cylinder's ends are its faces along local z; a pocket's every face may be a floor (a
+    // pocket read off the silhouette is conjectured, and goes through as well).
+    const bool pocket = hole.primitive.kind == PrimitiveKind3D::Box;
+    if (!pocket && (hole.conjectured || hole.primitive.kind != PrimitiveKind3D::Cylinder)) continue;
+    for (int a = pocket ? 0 : 2; a < 3; ++a)
+      for (int side : {-1, 1}) {
+        const Face end = face_of(hole.primitive, a, side);
+        const auto [lo, hi] = cut_span(graph, static_cast<int>(h), end.n);
+        if (lo > hi || end.at >= hi + margin) continue;
+        const Primitive3D through = with_face_at(hole.primitive, a, side, hi + margin);
+        std::vector<double> d = scorer.distances(through);
+        if (scorer.read(graph, &d, static_cast<int>(h)).seen > seen) continue;
+        hole.primitive = through;
+        scorer.set_node(static_cast<int>(h), std::move(d));
+      }
   }
   return graph;
 }

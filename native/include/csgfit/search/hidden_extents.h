@@ -1,7 +1,7 @@
 // Hidden faces where the designer would have put them: a block's face that no view saw is
 // moved out to a plane the part already has (another block's face, a cylinder's or sphere's
 // tangent plane) or to the block's own width, as a CAD user aligns an unseen underside with
-// the features beside it or draws a cube; a hole's unseen end goes through.
+// the features beside it or draws a cube; a hole's or a pocket's unseen end goes through.
 #pragma once
 
 #include "csgfit/features/range_evidence.h"
@@ -24,11 +24,12 @@ namespace csgfit {
 /// camera). Deterministic.
 PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& evidence);
 
-/// `graph` with each hole (a negative, unconjectured cylinder) drilled through what it cuts: an
-/// end no view sees moved past the far side of the positive nodes it is subtracted from, as a
-/// machinist drills through unless the hole's bottom is seen; kept when the views do not see the
-/// difference (no surface, empty or behind point of `evidence` agrees less). Nothing moves when
-/// the evidence has no hidden points. Deterministic.
+/// `graph` with each hole (a negative, unconjectured cylinder) and each pocket (a negative
+/// block, conjectured or not) through what it cuts: an end or a face no view sees moved past the
+/// far side of the positive nodes it is subtracted from, as a machinist drills or mills through
+/// unless the bottom is seen; kept when the views do not see the difference (no surface, empty
+/// or behind point of `evidence` agrees less). Nothing moves when the evidence has no hidden
+/// points. Deterministic.
 PrecedenceGraph holes_through(PrecedenceGraph graph, const RangeEvidence& evidence);
 
 /// `graph` with each block cut (conjectured too) clear of the skins it leaves: a face that ends
