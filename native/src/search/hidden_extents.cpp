@@ -66,11 +66,14 @@ Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
 }
 
 // The seen mismatch a move of face (axis a, side) of `p` may add: one sample where the face
-// turns its back on every view (sensor noise is all there is), none where a view looks at it.
+// turns its back on every view (sensor noise is all there is), a quarter of one where a view
+// looks at it (a face hidden behind another part still brushes a sample's tolerance band: the
+// cube behind three_cuboids' slab stayed a quarter cube for an eighth of a sample).
 double noise_slack(const RangeEvidence& evidence, const Primitive3D& p, int a, int side) {
   const Face f = face_of(p, a, side);
   const Vec3 on_face = add(Vec3{p.cx, p.cy, p.cz}, scale(f.n, p.dims[a] / 2));
-  return faces_away_from_every_view(evidence, on_face, f.n) ? EvidenceSamples::kUnitsPerSample : 0;
+  return faces_away_from_every_view(evidence, on_face, f.n) ? EvidenceSamples::kUnitsPerSample
+                                                            : EvidenceSamples::kUnitsPerSample / 4;
 }
 
 // Candidate offsets for the face (axis a, side) of `block`, node `b`: the other nodes' planes
@@ -142,9 +145,8 @@ double half_width(const Primitive3D& p, const Vec3& n) {
 }
 
 // Block node `b`'s face (axis a, side) where the designer would have put it: from its smallest
-// hidden extent out to the first of face_targets the views see no difference in (one sample
-// allowed on a face that turns its back on every view, where sensor noise is all there is);
-// where none is, the face stays where the search left it. The targets reach half the block's
+// hidden extent out to the first of face_targets the views see no difference in (noise_slack
+// allowed); where none is, the face stays where the search left it. The targets reach half the block's
 // size past that, and its own sizes twice its depth as found.
 void align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, int a,
                 int side, double seen) {
