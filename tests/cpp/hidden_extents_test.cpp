@@ -59,6 +59,24 @@ TEST(HiddenExtents, RodsThatAgreeOutvoteOneReadThin) {
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 0.011) << "on the three rods' plane, not at -0.6";
 }
 
+TEST(HiddenExtents, OfPlanesAsWellSupportedTheCloserAgreementWins) {
+  // Rods along both long edges, and a post whose bottom the search buried in the plate 0.08
+  // above their lowest line: within the tolerance (0.1) each plane has the other two beside it.
+  const auto rod = [](double y) {
+    return Primitive3D::cylinder(0, y, 0, 0.75, 8, Quaternion::from_axis_angle(0, 1, 0, 90));
+  };
+  const Primitive3D post = Primitive3D::cylinder(0, 0, 0.415, 0.5, 2.17);
+  Node3D truth = Node3D::leaf(kPlate);
+  for (const Primitive3D& p : {rod(3), rod(-3), post}) truth = Node3D::op(NodeKind::Union, {truth, Node3D::leaf(p)});
+  const RangeEvidence evidence = evidence_of(truth);
+  const Primitive3D thin = Primitive3D::box(0, 0, 0.225, 8, 6, 1.05);
+  const PrecedenceGraph g = align_hidden_faces(
+      graph_of({signed_node(thin, true), signed_node(rod(3), true), signed_node(rod(-3), true),
+                signed_node(post, true)}),
+      evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 1e-9) << "the rods' line, not the post's buried end";
+}
+
 TEST(HiddenExtents, AnUndersideTheSearchLeftTooDeepComesUpToTheRodsPlane) {
   const RangeEvidence evidence =
       evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), Node3D::leaf(kRod)}));

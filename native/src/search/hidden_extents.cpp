@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -78,8 +79,9 @@ double noise_slack(const RangeEvidence& evidence, const Primitive3D& p, int a, i
 
 // Candidate offsets for the face (axis a, side) of `block`, node `b`: the other nodes' planes
 // beyond it up to offset `until`, those that more of the part's planes agree with (within
-// `near`) first, then the nearest: four rods along a plate's edges, each fitted a little off,
-// outvote one read thin. And the block's own sizes, growing by at most `grow_limit`.
+// `near`) first, then those they agree with more closely, then the nearest: four rods along a
+// plate's edges, each fitted a little off, outvote one read thin. And the block's own sizes,
+// growing by at most `grow_limit`.
 std::vector<double> face_targets(const PrecedenceGraph& g, const Primitive3D& block, int b, int a, int side,
                                  double near, double until, double grow_limit) {
   const Face f = face_of(block, a, side);
@@ -98,13 +100,22 @@ std::vector<double> face_targets(const PrecedenceGraph& g, const Primitive3D& bl
     const double grow = block.dims[other] - block.dims[a];
     if (other != a && grow > floor && grow <= grow_limit) out.push_back(f.at + grow);
   }
+  // How many planes agree (within `near`), then how closely: two rods' lowest line, each
+  // within a hair of the other, before a disc's bottom buried in the plate 0.08 above it.
   const auto support = [&](double o) {
-    return std::count_if(planes.begin(), planes.end(), [&](double q) { return std::abs(q - o) <= near; });
+    long count = 0;
+    double closeness = 0;
+    for (double q : planes)
+      if (std::abs(q - o) <= near) ++count, closeness += 1 - std::abs(q - o) / near;
+    return std::make_pair(-count, -closeness);
   };
-  std::vector<std::pair<long, double>> ranked;
-  for (double o : out) ranked.emplace_back(-support(o), o);
+  std::vector<std::tuple<long, double, double>> ranked;
+  for (double o : out) {
+    const auto [count, closeness] = support(o);
+    ranked.emplace_back(count, closeness, o);
+  }
   std::sort(ranked.begin(), ranked.end());
-  for (std::size_t i = 0; i < ranked.size(); ++i) out[i] = ranked[i].second;
+  for (std::size_t i = 0; i < ranked.size(); ++i) out[i] = std::get<2>(ranked[i]);
   return out;
 }
 
