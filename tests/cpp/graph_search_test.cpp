@@ -93,6 +93,35 @@ TEST(EvidenceMismatch, AConjecturedCutPaysForTheHiddenMaterialItErases) {
       << "a conjectured one pays for the hidden block it takes away";
 }
 
+TEST(DistanceComposer, ComposesEveryLevelAsTheTreeDoes) {
+  // Leaves first, last and alone under every operation, three levels deep.
+  const Node3D ball = Node3D::leaf(Primitive3D::sphere(1, 0, 0, 2));
+  const Node3D inner = Node3D::op(NodeKind::Intersection, {Node3D::leaf(kBlock), ball});
+  const Node3D cuts = Node3D::op(NodeKind::Union, {Node3D::leaf(kHole), ball});
+  const Node3D tree = Node3D::op(
+      NodeKind::Union, {Node3D::op(NodeKind::Difference, {inner, cuts, Node3D::leaf(kHole)}),
+                        Node3D::leaf(Primitive3D::box(5, 0, 0, 2, 2, 2)), Node3D::op(NodeKind::Union, {ball})});
+  std::vector<Vec3> points;
+  for (int i = 0; i < 400; ++i) points.push_back({-6 + 0.03 * i, 0.7 * std::sin(0.1 * i), 2 * std::cos(0.07 * i)});
+  std::vector<std::vector<double>> leaf_distances;
+  std::vector<const double*> leaf_pointers;
+  for (const Primitive3D* p : leaves(tree)) {
+    leaf_distances.emplace_back(points.size());
+    p->signed_distances(points.data(), points.size(), leaf_distances.back().data());
+  }
+  for (const auto& d : leaf_distances) leaf_pointers.push_back(d.data());
+  DistanceComposer composer;
+  const std::vector<double> all = composer.compose(tree, leaf_pointers, points.size());
+  const std::vector<double>& tail = composer.compose_from(tree, leaf_pointers, points.size(), 150);
+  for (std::size_t s = 0; s < points.size(); ++s) {
+    const double want = signed_distance(tree, points[s][0], points[s][1], points[s][2]);
+    EXPECT_EQ(all[s], want) << "sample " << s;
+    if (s >= 150) EXPECT_EQ(tail[s], want) << "sample " << s;
+  }
+  const std::vector<double>& alone = composer.compose(Node3D::leaf(kBlock), {leaf_pointers[0]}, points.size());
+  EXPECT_TRUE(std::equal(alone.begin(), alone.end(), leaf_distances[0].begin()));
+}
+
 TEST(GraphSearch, SameInputSameGraph) {
   const Node3D truth = Node3D::op(NodeKind::Difference, {Node3D::leaf(kBlock), Node3D::leaf(kHole)});
   const RangeEvidence evidence = evidence_of(truth);
