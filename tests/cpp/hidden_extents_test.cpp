@@ -1,8 +1,8 @@
 // Hidden faces aligned with the part's planes, on scans rendered from known trees: a plate's
 // unseen underside goes down to the tangent plane of the rod along its edge, a block's to its
 // own width, a face the view sees does not move, and a hole or a pocket goes through unless its
-// bottom is seen; a leg's hidden top goes up to the plate it carries; a halfspace cut through a block's
-// top becomes the block's own top; a cut that stops a hair short of a face goes through it.
+// bottom is seen; a leg's hidden top goes up to the plate it carries; a halfspace cut through a
+// block's top becomes the block's own top; a cut that stops a hair short of a face goes through.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,7 +24,9 @@ using testing::signed_node;
 const Primitive3D kRod =
     Primitive3D::cylinder(0, 3, 0, 0.75, 8, Quaternion::from_axis_angle(0, 1, 0, 90.5));
 
-double bottom(const Primitive3D& box) { return box.cz - box.dims[2] / 2; }
+// The ends along z of a block or an upright cylinder.
+double bottom(const Primitive3D& p) { return p.cz - p.dims[2] / 2; }
+double top(const Primitive3D& p) { return p.cz + p.dims[2] / 2; }
 
 TEST(HiddenExtents, AnUnseenUndersideMeetsTheRodsTangentPlane) {
   const RangeEvidence evidence =
@@ -34,7 +36,7 @@ TEST(HiddenExtents, AnUnseenUndersideMeetsTheRodsTangentPlane) {
   const PrecedenceGraph g = align_hidden_faces(
       graph_of({signed_node(thin, true), signed_node(kRod, true)}), evidence);
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 1e-9) << "down to the rod's lowest line";
-  EXPECT_NEAR(g.nodes[0].primitive.cz + g.nodes[0].primitive.dims[2] / 2, 0.75, 1e-9) << "top stays";
+  EXPECT_NEAR(top(g.nodes[0].primitive), 0.75, 1e-9) << "top stays";
   EXPECT_NEAR(g.nodes[0].primitive.dims[0], 8, 1e-9);
 }
 
@@ -85,7 +87,7 @@ TEST(HiddenExtents, AnUndersideTheSearchLeftTooDeepComesUpToTheRodsPlane) {
   const PrecedenceGraph g = align_hidden_faces(
       graph_of({signed_node(deep, true), signed_node(kRod, true)}), evidence);
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 1e-9);
-  EXPECT_NEAR(g.nodes[0].primitive.cz + g.nodes[0].primitive.dims[2] / 2, 0.75, 1e-9) << "top stays";
+  EXPECT_NEAR(top(g.nodes[0].primitive), 0.75, 1e-9) << "top stays";
 }
 
 TEST(HiddenExtents, WithNoPlaneToGoToAFaceStaysWhereItWas) {
@@ -105,7 +107,7 @@ TEST(HiddenExtents, AFaceTheViewSeesStays) {
   const PrecedenceGraph g = align_hidden_faces(
       graph_of({signed_node(kPlate, true), signed_node(block, true)}), evidence);
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.75, 1e-9);
-  EXPECT_NEAR(g.nodes[0].primitive.cz + g.nodes[0].primitive.dims[2] / 2, 0.75, 1e-9)
+  EXPECT_NEAR(top(g.nodes[0].primitive), 0.75, 1e-9)
       << "nor its top up to the block's";
 }
 
@@ -150,8 +152,6 @@ TEST(HiddenExtents, NothingWithoutACamera) {
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -0.3, 1e-9);
 }
 
-double top_end(const Primitive3D& vertical) { return vertical.cz + vertical.dims[2] / 2; }
-
 TEST(HiddenExtents, LegsGoUpToTheTopTheyCarry) {
   // Four legs of radius 0.3 under the plate, inset by 1: the plate hides their upper ends.
   Node3D truth = Node3D::leaf(kPlate);
@@ -163,7 +163,7 @@ TEST(HiddenExtents, LegsGoUpToTheTopTheyCarry) {
       g = with_node(g, signed_node(Primitive3D::cylinder(x, y, -3.025, 0.3, 3.45), true), {});
     }
   const PrecedenceGraph out = align_hidden_faces(g, evidence_of(truth));
-  for (int i = 1; i <= 4; ++i) EXPECT_NEAR(top_end(out.nodes[i].primitive), -0.75, 1e-9) << "leg " << i;
+  for (int i = 1; i <= 4; ++i) EXPECT_NEAR(top(out.nodes[i].primitive), -0.75, 1e-9) << "leg " << i;
 }
 
 TEST(HiddenExtents, APostBesideThePlateDoesNotReachItsPlane) {
@@ -173,7 +173,7 @@ TEST(HiddenExtents, APostBesideThePlateDoesNotReachItsPlane) {
       evidence_of(Node3D::op(NodeKind::Union, {Node3D::leaf(kPlate), Node3D::leaf(post)}));
   const PrecedenceGraph out =
       align_hidden_faces(graph_of({signed_node(kPlate, true), signed_node(post, true)}), evidence);
-  EXPECT_NEAR(top_end(out.nodes[1].primitive), 0, 1e-12);
+  EXPECT_NEAR(top(out.nodes[1].primitive), 0, 1e-12);
 }
 
 // The plate with a hole cut from it: node 0 the plate, node 1 the hole.
@@ -181,8 +181,6 @@ PrecedenceGraph plate_minus(const Primitive3D& hole) {
   return with_node(graph_of({signed_node(kPlate, true)}), signed_node(hole, false),
                    {{0, 1, ArcKind::Subtracting}});
 }
-
-double lowest(const Primitive3D& vertical) { return vertical.cz - vertical.dims[2] / 2; }
 
 TEST(HolesThrough, AHoleWhoseBottomNoViewSeesGoesThrough) {
   // Radius 0.5 through the 1.5 plate: from 35 degrees up no ray reaches its lower half.
@@ -192,10 +190,9 @@ TEST(HolesThrough, AHoleWhoseBottomNoViewSeesGoesThrough) {
   // As the surface reading leaves it: as deep as its wall was seen.
   const Primitive3D blind = Primitive3D::cylinder(1, 0.5, 0.5, 0.5, 0.5);
   const PrecedenceGraph g = holes_through(plate_minus(blind), evidence);
-  EXPECT_LT(lowest(g.nodes[1].primitive), -0.75) << "through the plate's underside";
-  const double top = g.nodes[1].primitive.cz + g.nodes[1].primitive.dims[2] / 2;
-  EXPECT_GE(top, 0.75) << "still open at the top";
-  EXPECT_LE(top, 0.75 + evidence.tolerance + 1e-9) << "and no further out than through";
+  EXPECT_LT(bottom(g.nodes[1].primitive), -0.75) << "through the plate's underside";
+  EXPECT_GE(top(g.nodes[1].primitive), 0.75) << "still open at the top";
+  EXPECT_LE(top(g.nodes[1].primitive), 0.75 + evidence.tolerance + 1e-9) << "and no further out than through";
   EXPECT_NEAR(g.nodes[1].primitive.dims[0], 0.5, 1e-12);
 }
 
@@ -205,7 +202,7 @@ TEST(HolesThrough, ABlindHoleWhoseBottomIsSeenStays) {
   const RangeEvidence evidence =
       evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(bore)}));
   const PrecedenceGraph g = holes_through(plate_minus(bore), evidence);
-  EXPECT_NEAR(lowest(g.nodes[1].primitive), 0.45, 1e-9);
+  EXPECT_NEAR(bottom(g.nodes[1].primitive), 0.45, 1e-9);
 }
 
 TEST(HolesThrough, APocketWhoseFloorNoViewSeesGoesThrough) {
@@ -218,7 +215,7 @@ TEST(HolesThrough, APocketWhoseFloorNoViewSeesGoesThrough) {
   const PrecedenceGraph g =
       with_node(graph_of({signed_node(kPlate, true)}), pocket, {{0, 1, ArcKind::Subtracting}});
   const PrecedenceGraph through = holes_through(g, evidence);
-  EXPECT_LT(lowest(through.nodes[1].primitive), -0.75) << "through the plate's underside";
+  EXPECT_LT(bottom(through.nodes[1].primitive), -0.75) << "through the plate's underside";
   EXPECT_NEAR(through.nodes[1].primitive.dims[0], 2, 1e-12) << "its seen walls stay";
 }
 
@@ -227,7 +224,7 @@ TEST(HolesThrough, APocketWhoseFloorIsSeenStays) {
   const RangeEvidence evidence =
       evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(pocket)}));
   const PrecedenceGraph g = holes_through(plate_minus(pocket), evidence);
-  EXPECT_NEAR(lowest(g.nodes[1].primitive), 0.25, 1e-9);
+  EXPECT_NEAR(bottom(g.nodes[1].primitive), 0.25, 1e-9);
 }
 
 // A notch through the plate's corner, x > 2.5 and y > 1.5, and the same cut as a fit reads it:
@@ -235,15 +232,13 @@ TEST(HolesThrough, APocketWhoseFloorIsSeenStays) {
 const Primitive3D kNotch = Primitive3D::box(4, 3, 0, 3, 3, 3);
 const Primitive3D kNotchShort = Primitive3D::box(4, 3, -0.3775, 3, 3, 2.245);
 
-double top_of(const Primitive3D& box) { return box.cz + box.dims[2] / 2; }
-
 TEST(ClearSkins, ACutEndingAHairUnderTheTopGoesThrough) {
   const RangeEvidence evidence =
       evidence_of(Node3D::op(NodeKind::Difference, {Node3D::leaf(kPlate), Node3D::leaf(kNotch)}));
-  ASSERT_LT(top_of(kNotchShort), 0.75);
+  ASSERT_LT(top(kNotchShort), 0.75);
   const PrecedenceGraph g = clear_skins(plate_minus(kNotchShort), evidence, evidence_k(evidence));
-  EXPECT_GT(top_of(g.nodes[1].primitive), 0.75) << "no skin over the notch";
-  EXPECT_LE(top_of(g.nodes[1].primitive), 0.75 + evidence.tolerance + 1e-9) << "and no further";
+  EXPECT_GT(top(g.nodes[1].primitive), 0.75) << "no skin over the notch";
+  EXPECT_LE(top(g.nodes[1].primitive), 0.75 + evidence.tolerance + 1e-9) << "and no further";
   EXPECT_NEAR(bottom(g.nodes[1].primitive), bottom(kNotchShort), 1e-12) << "its other faces stay";
 }
 
@@ -252,7 +247,7 @@ TEST(ClearSkins, ACutUnderASeenFaceStays) {
   const RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
   const Primitive3D under = Primitive3D::box(0, 0, -0.0025, 3, 3, 1.495);
   const PrecedenceGraph g = clear_skins(plate_minus(under), evidence, evidence_k(evidence));
-  EXPECT_NEAR(top_of(g.nodes[1].primitive), top_of(under), 1e-12);
+  EXPECT_NEAR(top(g.nodes[1].primitive), top(under), 1e-12);
 }
 
 // A halfspace through the plate's top plane (z = 0.75), subtracted from `targets`.
@@ -264,8 +259,6 @@ PrecedenceGraph cut_at_top(PrecedenceGraph g, const std::vector<int>& targets,
   for (int t : targets) arcs.push_back({t, static_cast<int>(g.nodes.size()), ArcKind::Subtracting});
   return with_node(g, half, arcs);
 }
-
-double top(const Primitive3D& box) { return box.cz + box.dims[2] / 2; }
 
 TEST(FacesFromCuts, AHalfspaceThroughABlocksTopBecomesItsTop) {
   const RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
@@ -279,7 +272,7 @@ TEST(FacesFromCuts, AHalfspaceThroughABlocksTopBecomesItsTop) {
   const Primitive3D& plate = g.nodes[0].primitive;
   EXPECT_NEAR(std::abs(plate.rotation.matrix()[2][2]), 1, 1e-12) << "square to the cut's plane";
   EXPECT_NEAR(top(plate), 0.75, 1e-9) << "its top on that plane";
-  EXPECT_NEAR(plate.cz - plate.dims[2] / 2, 0.1 - 0.75, 0.02) << "its underside where it was";
+  EXPECT_NEAR(bottom(plate), 0.1 - 0.75, 0.02) << "its underside where it was";
 }
 
 TEST(FacesFromCuts, ACutThatAlsoTrimsARodStays) {

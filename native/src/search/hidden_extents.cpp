@@ -102,17 +102,13 @@ std::vector<double> face_targets(const PrecedenceGraph& g, const Primitive3D& bl
   }
   // How many planes agree (within `near`), then how closely: two rods' lowest line, each
   // within a hair of the other, before a disc's bottom buried in the plate 0.08 above it.
-  const auto support = [&](double o) {
+  std::vector<std::tuple<long, double, double>> ranked;  // -count, -closeness, offset
+  for (double o : out) {
     long count = 0;
     double closeness = 0;
     for (double q : planes)
       if (std::abs(q - o) <= near) ++count, closeness += 1 - std::abs(q - o) / near;
-    return std::make_pair(-count, -closeness);
-  };
-  std::vector<std::tuple<long, double, double>> ranked;
-  for (double o : out) {
-    const auto [count, closeness] = support(o);
-    ranked.emplace_back(count, closeness, o);
+    ranked.emplace_back(-count, -closeness, o);
   }
   std::sort(ranked.begin(), ranked.end());
   for (std::size_t i = 0; i < ranked.size(); ++i) out[i] = std::get<2>(ranked[i]);
@@ -157,8 +153,8 @@ double half_width(const Primitive3D& p, const Vec3& n) {
 
 // Block node `b`'s face (axis a, side) where the designer would have put it: from its smallest
 // hidden extent out to the first of face_targets the views see no difference in (noise_slack
-// allowed); where none is, the face stays where the search left it. The targets reach half the block's
-// size past that, and its own sizes twice its depth as found.
+// allowed); where none is, the face stays where the search left it. The targets reach half
+// the block's size past that, and its own sizes twice its depth as found.
 void align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, int a,
                 int side, double seen) {
   SignedPrimitive& node = graph.nodes[static_cast<std::size_t>(b)];
@@ -180,8 +176,7 @@ void align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence&
 // Positive cylinder node `c`'s end (side) moved out to the nearest face of a block that its
 // axis then meets (within `near` of that block): a leg no view sees the top of goes up to the
 // underside of the top it carries, a post down to the plate it stands on; within the
-// cylinder's own length, when the views see no more than `seen` (one sample more on an end that
-// turns its back on every view).
+// cylinder's own length, when the views see no more than `seen` (noise_slack allowed).
 void extend_to_block(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int c, int side,
                      double seen) {
   SignedPrimitive& node = graph.nodes[static_cast<std::size_t>(c)];
@@ -369,10 +364,10 @@ PrecedenceGraph clear_skins(PrecedenceGraph graph, const RangeEvidence& evidence
   ViewScorer scorer(evidence, graph.nodes);
   const double seen = scorer.read(graph).seen;
   // The surface samples a skin held where the cut's walls overlap a seen face, read a hair
-  // off, may go: within a quarter of k, as faces_from_cuts allows.
+  // off, may go: within kSeenSlack of k, as faces_from_cuts allows.
   for (std::size_t c = 0; c < graph.nodes.size(); ++c)
     if (!graph.nodes[c].positive && graph.nodes[c].primitive.kind == PrimitiveKind3D::Box)
-      clear_skins_of(graph, static_cast<int>(c), scorer, seen, evidence.tolerance, k / 4);
+      clear_skins_of(graph, static_cast<int>(c), scorer, seen, evidence.tolerance, kSeenSlack * k);
   return graph;
 }
 

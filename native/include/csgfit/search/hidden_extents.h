@@ -15,11 +15,11 @@ namespace csgfit {
 /// bounds (up to half the block's size past where the face was) or to where the block is as
 /// deep as one of its other sizes (growing by at most its depth as found: a cube, not a plate
 /// made a cube); the plane that most of the part's planes agree with (within the evidence's
-/// tolerance) first, then the one they agree with more closely, then the nearest; each when the views do not see the difference (no
-/// surface, empty or behind point of `evidence` agrees less; one sample less for a face that
-/// turns its back on every view, where sensor noise is all there is, a quarter of one for any
-/// other). A face with no such plane
-/// stays where it was. Each positive cylinder's end no view sees moves out, within the
+/// tolerance) first, then the one they agree with more closely, then the nearest; each when
+/// the views do not see the difference (no surface, empty or behind point of `evidence` agrees
+/// less; one sample less for a face that turns its back on every view, where sensor noise is
+/// all there is, a quarter of one for any other). A face with no such plane stays where it
+/// was. Each positive cylinder's end no view sees moves out, within the
 /// cylinder's length, to the nearest face of a block its axis then meets (a table's leg up to
 /// the top it carries). Nothing moves when the evidence has no hidden points (a scan without a
 /// camera). Deterministic.
