@@ -121,6 +121,17 @@ TEST(HiddenExtents, ABlockSeenAsDeepAsItIsWideBecomesACube) {
   EXPECT_NEAR(bottom(g.nodes[0].primitive), -1.5, 1e-9);
 }
 
+TEST(HiddenExtents, AnUndersideTheSearchLeftTooDeepComesUpToTheCubesWidth) {
+  // The same cube, its underside left at -3.5: the smallest extent the view allows is a hair
+  // deeper than the cube is wide (the halving steps stop short), and the width is the size.
+  const Primitive3D cube = Primitive3D::box(0, 0, 0, 3, 3, 3);
+  const RangeEvidence evidence = evidence_of(Node3D::leaf(cube));
+  const Primitive3D deep = Primitive3D::box(0, 0, -1, 3, 3, 5);
+  const PrecedenceGraph g = align_hidden_faces(graph_of({signed_node(deep, true)}), evidence);
+  EXPECT_NEAR(bottom(g.nodes[0].primitive), -1.5, 1e-9);
+  EXPECT_NEAR(top(g.nodes[0].primitive), 1.5, 1e-9) << "top stays";
+}
+
 TEST(HiddenExtents, APlateSeenFromAboveStaysAPlate) {
   const RangeEvidence evidence = evidence_of(Node3D::leaf(kPlate));
   const Primitive3D thin = Primitive3D::box(0, 0, 0.225, 8, 6, 1.05);

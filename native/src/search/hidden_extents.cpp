@@ -1,6 +1,7 @@
 #include "csgfit/search/hidden_extents.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <tuple>
@@ -80,10 +81,10 @@ double noise_slack(const RangeEvidence& evidence, const Primitive3D& p, int a, i
 // Candidate offsets for the face (axis a, side) of `block`, node `b`: the other nodes' planes
 // beyond it up to offset `until`, those that more of the part's planes agree with (within
 // `near`) first, then those they agree with more closely, then the nearest: four rods along a
-// plate's edges, each fitted a little off, outvote one read thin. And the block's own sizes,
-// growing by at most `grow_limit`.
+// plate's edges, each fitted a little off, outvote one read thin. And the block's own sizes
+// along the axes in `sized`, growing by at most `grow_limit`.
 std::vector<double> face_targets(const PrecedenceGraph& g, const Primitive3D& block, int b, int a, int side,
-                                 double near, double until, double grow_limit) {
+                                 double near, double until, double grow_limit, const std::array<bool, 3>& sized) {
   const Face f = face_of(block, a, side);
   std::vector<double> planes, out;
   // Only what the part has: a cut's extent past the material it takes is arbitrary (a hole's
@@ -95,10 +96,12 @@ std::vector<double> face_targets(const PrecedenceGraph& g, const Primitive3D& bl
   for (double o : planes)
     if (o > f.at + floor && o <= until) out.push_back(o);
   // The block's own sizes: a block as deep as it is wide or tall (a cube seen on two faces),
-  // within the limit (a plate seen from above stays a plate).
+  // within the limit (a plate seen from above stays a plate), or a hair thinner than its
+  // smallest extent (within `near`, the views' own tolerance).
   for (int other = 0; other < 3; ++other) {
     const double grow = block.dims[other] - block.dims[a];
-    if (other != a && grow > floor && grow <= grow_limit) out.push_back(f.at + grow);
+    if (other != a && sized[other] && std::abs(grow) > floor && grow > -near && grow <= grow_limit)
+      out.push_back(f.at + grow);
   }
   // How many planes agree (within `near`), then how closely: two rods' lowest line, each
   // within a hair of the other, before a disc's bottom buried in the plate 0.08 above it.
@@ -151,25 +154,57 @@ double half_width(const Primitive3D& p, const Vec3& n) {
   }
 }
 
+// Who put a block's face: a view (it can come no further in), a target, or the search.
+enum class PutBy { View, Target, Search };
+
 // Block node `b`'s face (axis a, side) where the designer would have put it: from its smallest
-// hidden extent out to the first of face_targets the views see no difference in (noise_slack
-// allowed); where none is, the face stays where the search left it. The targets reach half
-// the block's size past that, and its own sizes twice its depth as found.
-void align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, int a,
-                int side, double seen) {
+// hidden extent (from where it is, when `aligned` already) out to the first of face_targets
+// the views see no difference in (noise_slack allowed); where none is, the face stays where
+// the search left it. The targets reach half the block's size past that, and its own sizes
+// (along the axes `sized`) its depth as found past that.
+PutBy align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, int a,
+                 int side, double seen, bool aligned, const std::array<bool, 3>& sized) {
   SignedPrimitive& node = graph.nodes[static_cast<std::size_t>(b)];
   const Primitive3D found = node.primitive;
   const Face f = face_of(found, a, side);
   const double slack = noise_slack(evidence, found, a, side);
-  const Primitive3D smallest = smallest_extent(graph, scorer, b, a, side, seen, 2 * evidence.tolerance);
+  const Primitive3D smallest =
+      aligned ? found : smallest_extent(graph, scorer, b, a, side, seen, 2 * evidence.tolerance);
   const double until = f.at + kReach * found.dims[a];
-  for (double to : face_targets(graph, smallest, b, a, side, evidence.tolerance, until, found.dims[a])) {
+  for (double to : face_targets(graph, smallest, b, a, side, evidence.tolerance, until, found.dims[a], sized)) {
     const Primitive3D moved = with_face_at(smallest, a, side, to);
     std::vector<double> d = scorer.distances(moved);
     if (scorer.read(graph, &d, b).seen > seen + slack) continue;
     node.primitive = moved;
     scorer.set_node(b, std::move(d));
-    return;
+    return PutBy::Target;
+  }
+  if (aligned) return PutBy::Target;
+  return found.dims[a] - smallest.dims[a] <= evidence.tolerance ? PutBy::View : PutBy::Search;
+}
+
+// Every face of block node `b` aligned (align_face), over again while a pass moves one: a cube
+// seen on one face grows one hidden side to its seen width, and only then may the other grow
+// to it too (three_cuboids' cube behind its slab stayed half as deep). A face a target put
+// grows on from there. Own sizes come only from axes whose faces a view or a target put (all,
+// until a pass has looked): a side the search left long is no designer's size (six_cuboids'
+// cube grew to one).
+void align_block(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, double seen) {
+  constexpr int kPasses = 3;  // a block has three sizes; each pass may settle one more
+  std::array<bool, 3> sized{true, true, true};
+  std::array<std::array<bool, 2>, 3> aligned{};
+  for (int pass = 0; pass < kPasses; ++pass) {
+    const Vec3 before = graph.nodes[static_cast<std::size_t>(b)].primitive.dims;
+    for (std::size_t a = 0; a < 3; ++a) {
+      sized[a] = true;
+      for (std::size_t s = 0; s < 2; ++s) {
+        const int side = s == 0 ? -1 : 1;
+        const PutBy put = align_face(graph, scorer, evidence, b, static_cast<int>(a), side, seen, aligned[a][s], sized);
+        aligned[a][s] = put == PutBy::Target;
+        sized[a] = sized[a] && put != PutBy::Search;
+      }
+    }
+    if (graph.nodes[static_cast<std::size_t>(b)].primitive.dims == before) return;
   }
 }
 
@@ -380,9 +415,7 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
   for (std::size_t b = 0; b < graph.nodes.size(); ++b) {
     const SignedPrimitive& node = graph.nodes[b];
     if (!node.positive || node.conjectured) continue;
-    if (node.primitive.kind == PrimitiveKind3D::Box)
-      for (int a = 0; a < 3; ++a)
-        for (int side : {-1, 1}) align_face(graph, scorer, evidence, static_cast<int>(b), a, side, seen);
+    if (node.primitive.kind == PrimitiveKind3D::Box) align_block(graph, scorer, evidence, static_cast<int>(b), seen);
     if (node.primitive.kind == PrimitiveKind3D::Cylinder)
       for (int side : {-1, 1}) extend_to_block(graph, scorer, evidence, static_cast<int>(b), side, seen);
   }
