@@ -68,14 +68,15 @@ Primitive3D with_face_at(const Primitive3D& b, int a, int side, double to) {
 }
 
 // The seen mismatch a move of face (axis a, side) of `p` may add: one sample where the face
-// turns its back on every view (sensor noise is all there is), a quarter of one where a view
-// looks at it (a face hidden behind another part still brushes a sample's tolerance band: the
-// cube behind three_cuboids' slab stayed a quarter cube for an eighth of a sample).
+// turns its back on every view (sensor noise is all there is), half of one where a view looks
+// at it (a face hidden behind another part still brushes a sample's tolerance band: the cube
+// behind three_cuboids' slab stayed a quarter cube for an eighth of a sample, the one behind
+// nine_cuboids' for a half).
 double noise_slack(const RangeEvidence& evidence, const Primitive3D& p, int a, int side) {
   const Face f = face_of(p, a, side);
   const Vec3 on_face = add(Vec3{p.cx, p.cy, p.cz}, scale(f.n, p.dims[a] / 2));
   return faces_away_from_every_view(evidence, on_face, f.n) ? EvidenceSamples::kUnitsPerSample
-                                                            : EvidenceSamples::kUnitsPerSample / 4;
+                                                            : EvidenceSamples::kUnitsPerSample / 2;
 }
 
 // Candidate offsets for the face (axis a, side) of `block`, node `b`: the other nodes' planes
