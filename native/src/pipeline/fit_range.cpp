@@ -148,7 +148,8 @@ std::vector<SignedPrimitive> residual_proposals(const Node3D& tree, const Merged
 // (hallway's twelve primitives: 15 s alone on the machine) never reaches make the tree one
 // seed gives the same at --time 20 as at 100, and under load: at 0.2 / 0.45 / 0.6 the first
 // polish and both searches were cut on most of the larger parts, each at a different point.
-constexpr double kFirstPolishShare = 0.5, kSearchShare = 0.7, kResidualSearchShare = 0.8, kPolishShare = 0.9;
+constexpr double kFirstPolishShare = 0.5, kSearchShare = 0.7, kResidualSearchShare = 0.8,
+                 kPolishShare = 0.9;
 
 // Seed 002's graph tested against what the views saw (steps 4 and 5 beyond the seed): pruned
 // and polished, searched over the candidates, searched again with what the residual shows

@@ -85,7 +85,8 @@ double noise_slack(const RangeEvidence& evidence, const Primitive3D& p, int a, i
 // plate's edges, each fitted a little off, outvote one read thin. And the block's own sizes
 // along the axes in `sized`, growing by at most `grow_limit`.
 std::vector<double> face_targets(const PrecedenceGraph& g, const Primitive3D& block, int b, int a, int side,
-                                 double near, double until, double grow_limit, const std::array<bool, 3>& sized) {
+                                 double near, double until, double grow_limit,
+                                 const std::array<bool, 3>& sized) {
   const Face f = face_of(block, a, side);
   std::vector<double> planes, out;
   // Only what the part has: a cut's extent past the material it takes is arbitrary (a hole's
@@ -155,55 +156,51 @@ double half_width(const Primitive3D& p, const Vec3& n) {
   }
 }
 
-// Who put a block's face: a view (it can come no further in), a target, or the search.
-enum class PutBy { View, Target, Search };
-
 // Block node `b`'s face (axis a, side) where the designer would have put it: from its smallest
-// hidden extent (from where it is, when `aligned` already) out to the first of face_targets
-// the views see no difference in (noise_slack allowed); where none is, the face stays where
-// the search left it. The targets reach half the block's size past that, and its own sizes
-// (along the axes `sized`) its depth as found past that.
-PutBy align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, int a,
-                 int side, double seen, bool aligned, const std::array<bool, 3>& sized) {
+// hidden extent (from where it is, when `put` already) out to the first of face_targets the
+// views see no difference in (noise_slack allowed); where none is, the face stays where the
+// search left it. The targets reach half the block's size past that, and its own sizes (along
+// the axes `sized`) its depth as found past that. True when a view (the face can come no
+// further in) or a target put the face, false when it is where the search left it.
+bool align_face(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, int a,
+                int side, double seen, bool put, const std::array<bool, 3>& sized) {
   SignedPrimitive& node = graph.nodes[static_cast<std::size_t>(b)];
   const Primitive3D found = node.primitive;
   const Face f = face_of(found, a, side);
   const double slack = noise_slack(evidence, found, a, side);
   const Primitive3D smallest =
-      aligned ? found : smallest_extent(graph, scorer, b, a, side, seen, 2 * evidence.tolerance);
+      put ? found : smallest_extent(graph, scorer, b, a, side, seen, 2 * evidence.tolerance);
   const double until = f.at + kReach * found.dims[a];
-  for (double to : face_targets(graph, smallest, b, a, side, evidence.tolerance, until, found.dims[a], sized)) {
+  for (double to :
+       face_targets(graph, smallest, b, a, side, evidence.tolerance, until, found.dims[a], sized)) {
     const Primitive3D moved = with_face_at(smallest, a, side, to);
     std::vector<double> d = scorer.distances(moved);
     if (scorer.read(graph, &d, b).seen > seen + slack) continue;
     node.primitive = moved;
     scorer.set_node(b, std::move(d));
-    return PutBy::Target;
+    return true;
   }
-  if (aligned) return PutBy::Target;
-  return found.dims[a] - smallest.dims[a] <= evidence.tolerance ? PutBy::View : PutBy::Search;
+  return put || found.dims[a] - smallest.dims[a] <= evidence.tolerance;
 }
 
 // Every face of block node `b` aligned (align_face), over again while a pass moves one: a cube
 // seen on one face grows one hidden side to its seen width, and only then may the other grow
-// to it too (three_cuboids' cube behind its slab stayed half as deep). A face a target put
-// grows on from there. Own sizes come only from axes whose faces a view or a target put (all,
-// until a pass has looked): a side the search left long is no designer's size (six_cuboids'
-// cube grew to one).
-void align_block(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b, double seen) {
+// to it too (three_cuboids' cube behind its slab stayed half as deep). A face a view or a
+// target put grows on from there, its smallest extent not sought again. Own sizes come only
+// from axes whose faces a view or a target put (all, until a pass has looked): a side the
+// search left long is no designer's size (six_cuboids' cube grew to one).
+void align_block(PrecedenceGraph& graph, ViewScorer& scorer, const RangeEvidence& evidence, int b,
+                 double seen) {
   constexpr int kPasses = 3;  // a block has three sizes; each pass may settle one more
   std::array<bool, 3> sized{true, true, true};
-  std::array<std::array<bool, 2>, 3> aligned{};
+  std::array<std::array<bool, 2>, 3> put{};  // [axis][side -1, +1]
   for (int pass = 0; pass < kPasses; ++pass) {
     const Vec3 before = graph.nodes[static_cast<std::size_t>(b)].primitive.dims;
     for (std::size_t a = 0; a < 3; ++a) {
-      sized[a] = true;
-      for (std::size_t s = 0; s < 2; ++s) {
-        const int side = s == 0 ? -1 : 1;
-        const PutBy put = align_face(graph, scorer, evidence, b, static_cast<int>(a), side, seen, aligned[a][s], sized);
-        aligned[a][s] = put == PutBy::Target;
-        sized[a] = sized[a] && put != PutBy::Search;
-      }
+      for (std::size_t s = 0; s < 2; ++s)
+        put[a][s] = align_face(graph, scorer, evidence, b, static_cast<int>(a), s == 0 ? -1 : 1, seen,
+                               put[a][s], sized);
+      sized[a] = put[a][0] && put[a][1];
     }
     if (graph.nodes[static_cast<std::size_t>(b)].primitive.dims == before) return;
   }
@@ -416,7 +413,8 @@ PrecedenceGraph align_hidden_faces(PrecedenceGraph graph, const RangeEvidence& e
   for (std::size_t b = 0; b < graph.nodes.size(); ++b) {
     const SignedPrimitive& node = graph.nodes[b];
     if (!node.positive || node.conjectured) continue;
-    if (node.primitive.kind == PrimitiveKind3D::Box) align_block(graph, scorer, evidence, static_cast<int>(b), seen);
+    if (node.primitive.kind == PrimitiveKind3D::Box)
+      align_block(graph, scorer, evidence, static_cast<int>(b), seen);
     if (node.primitive.kind == PrimitiveKind3D::Cylinder)
       for (int side : {-1, 1}) extend_to_block(graph, scorer, evidence, static_cast<int>(b), side, seen);
   }

@@ -13,13 +13,15 @@ namespace csgfit {
 /// first moves in to seed 002's smallest hidden extent (as far as the views see no
 /// difference), then out to a plane parallel to it that another positive, unconjectured node
 /// bounds (up to half the block's size past where the face was) or to where the block is as
-/// deep as one of its other sizes (growing by at most its depth as found: a cube, not a plate
-/// made a cube); the plane that most of the part's planes agree with (within the evidence's
-/// tolerance) first, then the one they agree with more closely, then the nearest; each when
-/// the views do not see the difference (no surface, empty or behind point of `evidence` agrees
-/// less; one sample less for a face that turns its back on every view, where sensor noise is
-/// all there is, a quarter of one for any other). A face with no such plane stays where it
-/// was. Each positive cylinder's end no view sees moves out, within the
+/// deep as one of its other sizes that a view or such a move put (growing by at most its depth
+/// as found: a cube, not a plate made a cube; or coming in by less than the tolerance); the
+/// plane that most of the part's planes agree with (within the evidence's tolerance) first,
+/// then the one they agree with more closely, then the nearest; each when the views do not see
+/// the difference (no surface, empty or behind point of `evidence` agrees less; one sample less
+/// for a face that turns its back on every view, where sensor noise is all there is, half of
+/// one for any other). A face with no such plane stays where it was. A block's faces are
+/// aligned again while a pass moves one. Each positive cylinder's end no view sees moves out,
+/// within the
 /// cylinder's length, to the nearest face of a block its axis then meets (a table's leg up to
 /// the top it carries). Nothing moves when the evidence has no hidden points (a scan without a
 /// camera). Deterministic.
