@@ -1,6 +1,7 @@
 #include "patch_fit.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 #include "model/linalg.h"
@@ -93,13 +94,25 @@ void polish_cylinder(SurfacePatch& s, const std::vector<Vec3>& points,
     const Vec3 axis = least_variance_direction(c);
     if (std::abs(dot(axis, s.axis)) > 0.9) s.axis = dot(axis, s.axis) < 0 ? scale(axis, -1) : axis;
   }
-  const Vec3 u = normalized(reject(std::abs(s.axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0},
-                                   s.axis));
-  const Vec3 w = cross(s.axis, u);
-  Eigen::MatrixXd a(s.points.size(), 3);
-  Eigen::VectorXd b(s.points.size());
-  for (std::size_t r = 0; r < s.points.size(); ++r) {
-    const Vec3 d = sub(points[s.points[r]], s.point);
+  std::vector<Vec3> selected;
+  selected.reserve(s.points.size());
+  for (int i : s.points) selected.push_back(points[i]);
+  const AxisCircle c = fit_axis_circle(selected, s.point, s.axis);
+  if (!c.ok) return;
+  s.point = c.centre;
+  s.radius = c.radius;
+}
+
+}  // namespace
+
+AxisCircle fit_axis_circle(const std::vector<Vec3>& points, const Vec3& origin, const Vec3& axis) {
+  AxisCircle out;
+  const Vec3 u = normalized(reject(std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}, axis));
+  const Vec3 w = cross(axis, u);
+  Eigen::MatrixXd a(points.size(), 3);
+  Eigen::VectorXd b(points.size());
+  for (std::size_t r = 0; r < points.size(); ++r) {
+    const Vec3 d = sub(points[r], origin);
     const double x = dot(d, u), y = dot(d, w);
     a.row(static_cast<Eigen::Index>(r)) << x, y, 1;
     b(static_cast<Eigen::Index>(r)) = -(x * x + y * y);
@@ -107,14 +120,16 @@ void polish_cylinder(SurfacePatch& s, const std::vector<Vec3>& points,
   const Eigen::Vector3d x = a.colPivHouseholderQr().solve(b);
   double cu = -x(0) / 2, cw = -x(1) / 2;
   const double r2 = cu * cu + cw * cw - x(2);
-  if (!(r2 > 0) || !std::isfinite(r2)) return;
+  if (!(r2 > 0) || !std::isfinite(r2)) return out;
   double radius = std::sqrt(r2);
   geometric_circle(a, cu, cw, radius);
-  s.point = add(s.point, add(scale(u, cu), scale(w, cw)));
-  s.radius = radius;
+  out.ok = std::isfinite(radius) && radius > 0;
+  out.centre = add(origin, add(scale(u, cu), scale(w, cw)));
+  out.radius = radius;
+  for (const Vec3& p : points)
+    out.max_error = std::max(out.max_error, std::abs(norm(reject(sub(p, out.centre), axis)) - radius));
+  return out;
 }
-
-}  // namespace
 
 double surface_distance(const SurfacePatch& s, const Vec3& p) {
   const Vec3 d = sub(p, s.point);

@@ -23,6 +23,17 @@ void polish_patch(SurfacePatch& patch, const std::vector<Vec3>& points,
 /// concave side of the surface (a convex bump, seed 002's positive primitive).
 bool is_convex(const SurfacePatch& patch, const std::vector<Vec3>& points,
                const std::vector<Vec3>& normals);
+/// A circle about `axis` (unit) through points projected across it: the algebraic fit, then
+/// Gauss-Newton on the geometric distances. `centre` is on the axis line through it, in the
+/// plane across the axis through `origin`.
+struct AxisCircle {
+  Vec3 centre{0, 0, 0};
+  double radius = 0;
+  double max_error = 0;  ///< largest distance of a point's projection from the circle
+  bool ok = false;
+};
+AxisCircle fit_axis_circle(const std::vector<Vec3>& points, const Vec3& origin, const Vec3& axis);
+
 double patch_rms(const SurfacePatch& patch, const std::vector<Vec3>& points);
 
 }  // namespace csgfit

@@ -1,0 +1,324 @@
+// Surfaces of revolution read off a tessellation (turned parts, fillet rings, balls, cones).
+// The normals of a surface of revolution all meet its axis, so the axis is the line the facets'
+// normal lines meet best (Pottmann and Randrup's line-complex fit, a 6 x 6 eigenproblem); the
+// facets' vertices, seen across the axis as (radius, height), then trace the profile, which is
+// cut into straight pieces (cones, cylinders, flat rings) and circle arcs (tori, spheres).
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "csgfit/features/mesh_surfaces.h"
+#include "mesh_facets.h"
+#include "model/linalg.h"
+#include "patch_fit.h"
+
+namespace csgfit {
+
+namespace {
+
+using namespace linalg;
+
+// A facet's normal line meets the axis when it passes this share of the facet's distance from
+// the axis (plus the file's tolerance): exact for the symmetric quads a revolve makes, a few
+// percent off for a CAD exporter's strips of triangles.
+constexpr double kMeetSlack = 0.05;
+// Of the first facets around a seed, this share must meet one axis for a revolution to grow.
+constexpr double kSeedAgreement = 0.8;
+// A swept surface holds at least this many facets and goes this far about its axis (degrees):
+// fewer, and a few triangles of a CAD fan met some axis by chance.
+constexpr std::size_t kSweptFacets = 3;
+constexpr double kSweptDegrees = 20;
+// Fewest profile points an arc is read from: three always lie on some circle.
+constexpr std::size_t kArcPoints = 4;
+
+struct Axis {
+  Vec3 point{0, 0, 0}, direction{0, 0, 1};
+  bool ok = false;
+};
+
+Vec3 centroid_of(const FacetMesh& fm, int f) {
+  Vec3 c{0, 0, 0};
+  for (int v : fm.facets[f].vertices)
+    c = add(c, Vec3{fm.mesh.vertices[v][0], fm.mesh.vertices[v][1], fm.mesh.vertices[v][2]});
+  return scale(c, 1.0 / static_cast<double>(fm.facets[f].vertices.size()));
+}
+
+// The line the facets' normal lines meet best: minimise sum w (a . (c x n) + abar . n)^2 with
+// |a| = 1, abar eliminated through its normal equations (the Schur complement).
+Axis fit_axis(const FacetMesh& fm, const std::vector<int>& facets) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero(), B = Eigen::Matrix3d::Zero(), C = Eigen::Matrix3d::Zero();
+  for (int f : facets) {
+    const Vec3 n = fm.facets[f].normal, moment = cross(centroid_of(fm, f), n);
+    const Eigen::Vector3d l = view(n), lbar = view(moment);
+    const double w = fm.facets[f].area;
+    A += w * lbar * lbar.transpose();
+    B += w * lbar * l.transpose();
+    C += w * l * l.transpose();
+  }
+  Axis out;
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(C);
+  if (!lu.isInvertible()) return out;
+  const Eigen::Matrix3d schur = A - B * lu.inverse() * B.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 * (schur + schur.transpose()));
+  const Eigen::Vector3d a = eig.eigenvectors().col(0).normalized();
+  const Eigen::Vector3d abar = -lu.inverse() * B.transpose() * a;
+  if (!a.allFinite() || !abar.allFinite()) return out;
+  out.direction = to_vec3(a);
+  out.point = to_vec3(a.cross(abar));  // the axis point nearest the origin
+  out.ok = true;
+  return out;
+}
+
+double distance_to_axis(const Axis& axis, const Vec3& p) { return norm(reject(sub(p, axis.point), axis.direction)); }
+
+// Whether the facet's normal line meets the axis (a flat ring across the axis always does).
+bool meets(const FacetMesh& fm, int f, const Axis& axis, double tolerance) {
+  const Vec3 c = centroid_of(fm, f), n = fm.facets[f].normal;
+  const Vec3 across = cross(n, axis.direction);
+  const double reach = kMeetSlack * distance_to_axis(axis, c) + 10 * tolerance;
+  if (norm(across) < 1e-6) return true;
+  return std::abs(dot(sub(c, axis.point), across)) / norm(across) <= reach;
+}
+
+// The facets of `group` reachable from `seed` whose normal lines meet one axis.
+std::vector<int> grow_revolution(const FacetMesh& fm, const std::vector<char>& in_group, int seed,
+                                 const std::vector<char>& used, double tolerance, Axis& axis) {
+  std::vector<int> near{seed};
+  for (int ring = 0; ring < 2; ++ring) {
+    const std::size_t count = near.size();
+    for (std::size_t i = 0; i < count; ++i)
+      for (int k : fm.folds_of[near[i]]) {
+        const int g = fm.folds[k].a == near[i] ? fm.folds[k].b : fm.folds[k].a;
+        if (in_group[g] && !used[g] && std::find(near.begin(), near.end(), g) == near.end()) near.push_back(g);
+      }
+  }
+  if (near.size() < 4) return {};
+  axis = fit_axis(fm, near);
+  std::size_t agree = 0;
+  for (int f : near) agree += axis.ok && meets(fm, f, axis, tolerance);
+  if (!axis.ok || static_cast<double>(agree) < kSeedAgreement * static_cast<double>(near.size())) return {};
+  std::vector<int> members{seed};
+  std::vector<char> seen(fm.facets.size(), 0);
+  seen[seed] = 1;
+  for (std::size_t i = 0; i < members.size(); ++i)
+    for (int k : fm.folds_of[members[i]]) {
+      const int g = fm.folds[k].a == members[i] ? fm.folds[k].b : fm.folds[k].a;
+      if (!in_group[g] || used[g] || seen[g]) continue;
+      seen[g] = 1;
+      if (meets(fm, g, axis, tolerance)) members.push_back(g);
+    }
+  const Axis refit = fit_axis(fm, members);
+  if (refit.ok) axis = refit;
+  return members;
+}
+
+// The profile: distinct (radius, height) points of the facets' vertices, and per facet the
+// edge of the profile it sweeps.
+struct Profile {
+  std::vector<std::array<double, 2>> points;
+  std::map<std::pair<int, int>, std::vector<int>> edges;  // (lower, higher point) -> facets
+};
+
+int profile_point(Profile& p, double rho, double h, double merge) {
+  for (std::size_t i = 0; i < p.points.size(); ++i)
+    if (std::abs(p.points[i][0] - rho) <= merge && std::abs(p.points[i][1] - h) <= merge) return static_cast<int>(i);
+  p.points.push_back({rho, h});
+  return static_cast<int>(p.points.size()) - 1;
+}
+
+Profile trace_profile(const FacetMesh& fm, const std::vector<int>& facets, const Axis& axis, double tolerance) {
+  Profile p;
+  for (int f : facets) {
+    std::vector<int> ids;
+    for (int v : fm.facets[f].vertices) {
+      const Vec3 d = sub(Vec3{fm.mesh.vertices[v][0], fm.mesh.vertices[v][1], fm.mesh.vertices[v][2]}, axis.point);
+      const double h = dot(d, axis.direction);
+      ids.push_back(profile_point(p, norm(reject(d, axis.direction)), h, 4 * tolerance));
+    }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    if (ids.size() == 2) p.edges[{ids[0], ids[1]}].push_back(f);
+  }
+  return p;
+}
+
+// Walks of the profile graph: each a run of points from an end (or around a loop).
+std::vector<std::vector<int>> profile_walks(const Profile& p) {
+  std::vector<std::vector<int>> next(p.points.size());
+  for (const auto& e : p.edges) next[e.first.first].push_back(e.first.second), next[e.first.second].push_back(e.first.first);
+  std::vector<char> done(p.points.size(), 0);
+  std::vector<std::vector<int>> walks;
+  for (int pass = 0; pass < 2; ++pass)  // ends first, then what is left (loops)
+    for (std::size_t s = 0; s < p.points.size(); ++s) {
+      if (done[s] || next[s].empty() || next[s].size() > 2 || (pass == 0 && next[s].size() != 1)) continue;
+      std::vector<int> walk{static_cast<int>(s)};
+      done[s] = 1;
+      for (bool moved = true; moved;) {
+        moved = false;
+        for (int g : next[walk.back()])
+          if (!done[g] && next[g].size() <= 2) {
+            walk.push_back(g), done[g] = 1, moved = true;
+            break;
+          }
+      }
+      if (pass == 1 && walk.size() > 2 && std::find(next[walk.back()].begin(), next[walk.back()].end(), walk.front()) != next[walk.back()].end())
+        walk.push_back(walk.front());  // close the loop
+      if (walk.size() >= 2) walks.push_back(std::move(walk));
+    }
+  return walks;
+}
+
+struct Piece {
+  bool arc = false;
+  double a0 = 0, a1 = 0, b0 = 0, b1 = 0;  // line: its end points (rho, h)
+  double rho = 0, h = 0, radius = 0;       // arc: its circle
+};
+
+bool line_fits(const Profile& p, const std::vector<int>& w, std::size_t i, std::size_t j, double tol, Piece& piece) {
+  const auto& s = p.points[w[i]];
+  const auto& e = p.points[w[j]];
+  const double dx = e[0] - s[0], dy = e[1] - s[1], len = std::hypot(dx, dy);
+  if (!(len > 0)) return false;
+  for (std::size_t k = i + 1; k < j; ++k) {
+    const auto& q = p.points[w[k]];
+    if (std::abs((q[0] - s[0]) * dy - (q[1] - s[1]) * dx) / len > tol) return false;
+  }
+  piece = {false, s[0], e[0], s[1], e[1], 0, 0, 0};
+  return true;
+}
+
+bool arc_fits(const Profile& p, const std::vector<int>& w, std::size_t i, std::size_t j, double tol, Piece& piece) {
+  if (j - i + 1 < kArcPoints) return false;
+  std::vector<Vec3> pts;
+  for (std::size_t k = i; k <= j; ++k) pts.push_back({p.points[w[k]][0], p.points[w[k]][1], 0});
+  const AxisCircle c = fit_axis_circle(pts, pts.front(), Vec3{0, 0, 1});
+  if (!c.ok || c.max_error > tol) return false;
+  // Only a circle about the axis (a ball) or off it by more than its radius (a torus) is swept
+  // by a primitive; a wider one through a few near-straight points is a line and a kink.
+  if (std::abs(c.centre[0]) > 2 * tol && c.radius >= c.centre[0]) return false;
+  piece = {true, 0, 0, 0, 0, c.centre[0], c.centre[1], c.radius};
+  return true;
+}
+
+// The facets of the profile edges from point k0 to k1 of the walk.
+std::vector<int> swept_facets(const Profile& p, const std::vector<int>& w, std::size_t k0, std::size_t k1) {
+  std::vector<int> out;
+  for (std::size_t k = k0; k < k1; ++k) {
+    const auto it = p.edges.find({std::min(w[k], w[k + 1]), std::max(w[k], w[k + 1])});
+    if (it != p.edges.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+  }
+  return out;
+}
+
+// The surface a profile piece sweeps about the axis; false when no primitive is swept so.
+bool swept_surface(const Piece& piece, const Axis& axis, double tol, MeshSurface& s) {
+  SurfacePatch& shape = s.shape;
+  const Vec3 foot = axis.point, d = axis.direction;
+  if (piece.arc) {
+    shape.point = add(foot, scale(d, piece.h));
+    shape.axis = d;
+    shape.radius = piece.radius;
+    if (std::abs(piece.rho) <= 2 * tol) {
+      shape.kind = SurfaceKind::Sphere;
+    } else if (piece.radius < piece.rho) {
+      shape.kind = SurfaceKind::Torus;
+      shape.radius = piece.rho;
+      shape.minor_radius = piece.radius;
+    } else {
+      return false;  // a spindle torus: no primitive of ours
+    }
+    return true;
+  }
+  const double drho = piece.a1 - piece.a0, dh = piece.b1 - piece.b0;
+  shape.axis = d;
+  if (std::abs(drho) <= tol) {
+    shape.kind = SurfaceKind::Cylinder;
+    shape.point = foot;
+    shape.radius = 0.5 * (piece.a0 + piece.a1);
+  } else if (std::abs(dh) <= tol) {
+    shape.kind = SurfaceKind::Plane;
+    shape.point = add(foot, scale(d, piece.b0));
+  } else {
+    // A cone's apex where the line meets the axis; its axis points into the cone (radius growing).
+    shape.kind = SurfaceKind::Cone;
+    const double apex_h = piece.b0 - piece.a0 * dh / drho;
+    const bool grows_up = (dh > 0) == (drho > 0);
+    shape.point = add(foot, scale(d, apex_h));
+    shape.axis = grows_up ? d : scale(d, -1);
+    shape.angle = std::atan(std::abs(drho / dh));
+  }
+  return true;
+}
+
+// How far the facets go about the axis: the largest angle between two of their normals'
+// directions across it (enough to tell a ring from a stray triangle or two).
+double sweep_degrees(const FacetMesh& fm, const std::vector<int>& facets, const Axis& axis) {
+  double widest = 0;
+  const Vec3 first = normalized(reject(fm.facets[facets.front()].normal, axis.direction));
+  for (int f : facets) {
+    const Vec3 d = normalized(reject(fm.facets[f].normal, axis.direction));
+    widest = std::max(widest, std::acos(std::clamp(dot(first, d), -1.0, 1.0)) * 180 / M_PI);
+  }
+  return widest;
+}
+
+// Cuts each walk of the profile into the longest lines and arcs, each a surface of its facets.
+void cut_profile(const FacetMesh& fm, const Profile& p, const Axis& axis, double tol,
+                 std::vector<MeshSurface>& out) {
+  for (const auto& w : profile_walks(p)) {
+    std::size_t i = 0;
+    while (i + 1 < w.size()) {
+      Piece best, trial;
+      std::size_t end = i + 1;
+      line_fits(p, w, i, end, tol, best);
+      for (std::size_t j = i + 2; j < w.size(); ++j) {
+        const bool fits = line_fits(p, w, i, j, tol, trial) || arc_fits(p, w, i, j, tol, trial);
+        if (fits) best = trial, end = j;
+        else if (j + 1 - i >= kArcPoints) break;  // three points bend: only a fourth can say arc
+      }
+      MeshSurface s;
+      if (swept_surface(best, axis, tol, s)) {
+        const std::vector<int> facets = swept_facets(p, w, i, end);
+        if (facets.size() < kSweptFacets || sweep_degrees(fm, facets, axis) < kSweptDegrees) {
+          i = end;
+          continue;
+        }
+        for (int f : facets) {
+          s.triangles.insert(s.triangles.end(), fm.facets[f].triangles.begin(), fm.facets[f].triangles.end());
+          s.area += fm.facets[f].area;
+        }
+        if (!best.arc && s.shape.kind != SurfaceKind::Plane)
+          s.sides = regular_polygon(fm, facets, axis.point, axis.direction, std::max(best.a0, best.a1), true, tol, s.vertex_direction);
+        if (!s.triangles.empty()) out.push_back(std::move(s));
+      }
+      i = end;
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<MeshSurface> find_revolutions(const FacetMesh& fm, const std::vector<int>& group,
+                                          double tolerance, std::vector<char>& used) {
+  std::vector<char> in_group(fm.facets.size(), 0);
+  for (int f : group) in_group[f] = 1;
+  std::vector<int> order = group;
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return fm.facets[a].area > fm.facets[b].area; });
+  std::vector<MeshSurface> out;
+  std::vector<char> tried(fm.facets.size(), 0);  // in a revolution grown before: no seed again
+  for (int seed : order) {
+    if (used[seed] || tried[seed]) continue;
+    Axis axis;
+    const std::vector<int> members = grow_revolution(fm, in_group, seed, used, tolerance, axis);
+    for (int f : members) tried[f] = 1;
+    if (members.size() < 4) continue;
+    const std::size_t before = out.size();
+    cut_profile(fm, trace_profile(fm, members, axis, tolerance), axis, 2 * tolerance, out);
+    for (std::size_t k = before; k < out.size(); ++k)
+      for (int t : out[k].triangles) used[fm.facet_of[t]] = 1;
+  }
+  return out;
+}
+
+}  // namespace csgfit
