@@ -34,7 +34,8 @@ import numpy as np
 SCRIPT_DIR = os.path.dirname(os.path.abspath(__file__))
 if SCRIPT_DIR not in sys.path:
     sys.path.insert(0, SCRIPT_DIR)
-import bench_3d  # noqa: E402  (OpenSCAD to STL, the STL reader, the program counters)
+import bench_3d  # noqa: E402  (OpenSCAD to STL, the STL reader)
+import scad_count  # noqa: E402  (the manifest's counts, as bench_3d.py counts them)
 
 RASTER = 0.5   # every dimension and position a designer types
 WALL = 2.0     # the thinnest wall and the smallest feature
@@ -468,10 +469,10 @@ def write_part(draw, out, index, seed, timeout):
             f.write(text)
         problem = render_checked(scad, stl, timeout)
         if problem is None:
-            ops = bench_3d.scad_operations(text)
+            ops = scad_count.scad_operations(text)
             ops.pop("fn_prism", None)  # the manifest counts operations, as the printed set's
             return {"name": name, "kind": "random", "mesh": name + ".stl", "gt": name + ".scad",
-                    "gt_primitives": bench_3d.scad_leaves(text), "gt_operations": ops,
+                    "gt_primitives": scad_count.scad_leaves(text), "gt_operations": ops,
                     "source": source}
         print("random_parts: %s draw %d (%s) rejected: %s" % (name, attempt + 1, kind, problem),
               file=sys.stderr)
