@@ -64,22 +64,38 @@ def load_entries(args, prog, list_keys, noun):
 
     A missing manifest is a skip (status 0, said on stdout); an unknown --only name is bad
     usage (2). `list_keys` are the keys, in order, under which a dict manifest lists them."""
-    manifest = os.path.join(args.bench_dir, "manifest.json")
+    entries = read_manifest(args.bench_dir, prog, list_keys)
+    if entries is None:
+        return None, 0
+    entries = select_only(entries, args.only, prog, noun)
+    return (None, 2) if entries is None else (entries, None)
+
+
+def read_manifest(bench_dir, prog, list_keys):
+    """The entries of bench_dir/manifest.json, or None (said on stdout: skipped) when there is
+    none; a driver that runs several sets reads each one's manifest this way."""
+    manifest = os.path.join(bench_dir, "manifest.json")
     if not os.path.exists(manifest):
         print("%s: %s not found: skipped" % (prog, manifest))
-        return None, 0
+        return None
     with open(manifest) as f:
         entries = json.load(f)
     if isinstance(entries, dict):
         entries = next((entries[k] for k in list_keys if entries.get(k)), [])
-    if args.only:
-        unknown = set(args.only) - {e["name"] for e in entries}
-        if unknown:
-            print("%s: unknown %s(s): %s" % (prog, noun, " ".join(sorted(unknown))),
-                  file=sys.stderr)
-            return None, 2
-        entries = [e for e in entries if e["name"] in set(args.only)]
-    return entries, None
+    return entries
+
+
+def select_only(entries, only, prog, noun):
+    """The entries named in `only` (all when it is empty), or None when a name is unknown
+    (said on stderr): a typo must not quietly run nothing."""
+    if not only:
+        return entries
+    unknown = set(only) - {e["name"] for e in entries}
+    if unknown:
+        print("%s: unknown %s(s): %s" % (prog, noun, " ".join(sorted(unknown))),
+              file=sys.stderr)
+        return None
+    return [e for e in entries if e["name"] in set(only)]
 
 
 def missing_tool(prog, tool):
@@ -269,6 +285,16 @@ def fmt(values, fn, digits, na="n/a"):
     return na if not values else ("%.*f" % (digits, fn(values)))
 
 
+def markdown_table(columns, cells):
+    """A Markdown table: `columns` [(header, alignment such as "---" or "--:")], `cells` one
+    list of strings per row; drivers pick their columns per report instead of writing the
+    header and the format string twice."""
+    lines = ["| %s |" % " | ".join(h for h, _ in columns),
+             "|%s|" % "|".join(a for _, a in columns)]
+    lines += ["| %s |" % " | ".join(row) for row in cells]
+    return "\n".join(lines)
+
+
 def kind_order(kinds, labels):
     """The kinds present, those of `labels` first in its order, then the others as met."""
     kinds = list(dict.fromkeys(kinds))
@@ -345,15 +371,19 @@ def write_doc(path, text, begin_marker, end_marker):
         f.write(doc)
 
 
-def finish(prog, dim, noun, rows, fields, text, args, t_start):
+def finish(prog, dim, noun, rows, fields, text, args, t_start, doc_sections=None):
     """Writes --out/results.csv, prints the report and the run's last stderr line, and
-    rewrites the doc section (markers <!-- bench<dim>:begin/end -->) when asked."""
+    rewrites the doc section (markers <!-- bench<dim>:begin/end -->) when asked.
+
+    `doc_sections` ([(marker, text)], markers <!-- bench<marker>:begin/end -->) replaces that
+    one section when a report has several (bench_3d.py: one per benchmark set)."""
     csv_path = os.path.join(args.out, "results.csv")
     write_csv(csv_path, rows, fields)
     print(text)
     print("%s: %d %s in %.0f s; results in %s" % (
         prog, len(rows), noun, time.monotonic() - t_start, csv_path), file=sys.stderr)
     if args.write_doc:
-        write_doc(args.write_doc, text, "<!-- bench%s:begin -->" % dim,
-                  "<!-- bench%s:end -->" % dim)
+        for marker, section in (doc_sections if doc_sections is not None else [(dim, text)]):
+            write_doc(args.write_doc, section, "<!-- bench%s:begin -->" % marker,
+                      "<!-- bench%s:end -->" % marker)
         print("%s: updated %s" % (prog, args.write_doc), file=sys.stderr)
