@@ -209,6 +209,18 @@ TEST(SharedDimensions3D, EqualHolesThroughAPlateShareTheirRadiusAndHeight) {
                                                      {2, DimensionField::Length}}));
 }
 
+// A hexagonal nut trap beside a round hole of its circumradius: one height, two radii.
+TEST(SharedDimensions3D, APolygonsCircumradiusIsNotSharedWithACircle) {
+  Primitive3D nut = Primitive3D::cylinder(38, 15, 3, 4, 10);
+  nut.sides = 6;
+  const Node3D plate = Node3D::op(
+      NodeKind::Difference, {leaf3d(Primitive3D::box(25, 15, 3, 50, 30, 6)),
+                             leaf3d(Primitive3D::cylinder(12, 15, 3, 4, 10)), leaf3d(nut)});
+  const auto dims = shared_dimensions(plate);
+  ASSERT_EQ(dims.size(), 1u);
+  EXPECT_EQ(dims[0].name, "hole_h");
+}
+
 TEST(SharedDimensions3D, NamesSayHoleCylinderOrSphere) {
   const Node3D t = Node3D::op(
       NodeKind::Union, {leaf3d(Primitive3D::sphere(0, 0, 0, 2)), leaf3d(Primitive3D::sphere(9, 0, 0, 2)),
