@@ -18,8 +18,16 @@ WORKBENCH = os.path.join(REPO, "freecad_workbench")
 
 if FREECAD_LIB not in sys.path:
     sys.path.append(FREECAD_LIB)
-if WORKBENCH not in sys.path:
-    sys.path.insert(0, WORKBENCH)
+# Importing FreeCAD puts the user's installed modules first on sys.path, and an installed CSG
+# Fit workbench (scripts/install_workbench.sh) may link another checkout: FreeCAD comes first,
+# then this checkout's workbench goes before it, so that the tests test the code beside them.
+try:
+    import FreeCAD  # noqa: F401
+except ImportError:
+    pass
+if WORKBENCH in sys.path:
+    sys.path.remove(WORKBENCH)
+sys.path.insert(0, WORKBENCH)
 if os.path.join(BUILD, "python") not in sys.path:
     sys.path.insert(0, os.path.join(BUILD, "python"))
 
