@@ -110,11 +110,26 @@ class Writer : public TreeWriter<Writer, Node3D> {
     return length(tab, prefix, field, v);
   }
 
+  // The radius a cylinder or cone is drawn with: a round one's is sized by fn_r so that its
+  // $fn-gon keeps the fitted area; a polygonal one is that polygon already, drawn as it is.
+  std::string drawn_radius(const Primitive3D& p, const std::string& radius) {
+    if (p.is_polygonal()) return radius;
+    circles_ = true;
+    return "fn_r(" + radius + ")";
+  }
+  // ", $fn = <its sides parameter>" for a polygonal cylinder or cone, "" for a round one (the
+  // file's $fn draws it).
+  std::string polygon_sides(Tab& tab, const std::string& prefix, const Primitive3D& p) {
+    if (!p.is_polygonal()) return "";
+    const std::string range = "[3:1:" + std::to_string(std::max(p.sides, 64)) + "]";
+    return ", $fn = " + add(tab, prefix, "sides", p.sides, range, 0);
+  }
+
   // "rotate([a, b, c]) " with a variable per non-zero angle, or "" for no rotation.
   std::string rotation(Tab& tab, const std::string& prefix, const Primitive3D& p,
                        const std::string& what) {
     Vec3 e;
-    if (is_axially_symmetric(p.kind)) {
+    if (is_axially_symmetric(p)) {
       // Only the axis matters: rotate([a, b, 0]) takes local z to the axis (x, y, z) when
       // a = -asin(y), b = atan2(x, z).
       const Mat3 m = p.rotation.matrix();
@@ -197,8 +212,8 @@ std::string Writer::primitive(const Primitive3D& p) {
           length(tab, p, DimensionField::Radius, prefix, "r", check_size(s[0], "radius", what));
       const std::string h =
           length(tab, p, DimensionField::Length, prefix, "h", check_size(s[2], "height", what));
-      code += "cylinder(h = " + h + ", r = fn_r(" + r + "), center = true);";
-      circles_ = true;
+      code += "cylinder(h = " + h + ", r = " + drawn_radius(p, r) + ", center = true" +
+              polygon_sides(tab, prefix, p) + ");";
       break;
     }
     case PrimitiveKind3D::Cone: {
@@ -209,9 +224,8 @@ std::string Writer::primitive(const Primitive3D& p) {
       const std::string r1 = length(tab, prefix, "r1", s[0]);
       const std::string r2 = length(tab, prefix, "r2", s[1]);
       const std::string h = length(tab, prefix, "h", check_size(s[2], "height", what));
-      code += "cylinder(h = " + h + ", r1 = fn_r(" + r1 + "), r2 = fn_r(" + r2 +
-              "), center = true);";
-      circles_ = true;
+      code += "cylinder(h = " + h + ", r1 = " + drawn_radius(p, r1) + ", r2 = " +
+              drawn_radius(p, r2) + ", center = true" + polygon_sides(tab, prefix, p) + ");";
       break;
     }
     case PrimitiveKind3D::Ellipsoid: {

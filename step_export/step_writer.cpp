@@ -14,10 +14,12 @@
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
+#include <BRepOffsetAPI_ThruSections.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
@@ -114,13 +116,18 @@ gp_Trsf placement(const Primitive3D& p, const std::string& what) {
   return t;
 }
 
-// A closed planar polygon at z = z0, as a face.
-TopoDS_Face polygon_face(const std::vector<gp_Pnt>& pts) {
+// A closed polygon through the points.
+TopoDS_Wire polygon_wire(const std::vector<gp_Pnt>& pts) {
   BRepBuilderAPI_MakePolygon poly;
   for (const gp_Pnt& p : pts) poly.Add(p);
   poly.Close();
   if (!poly.IsDone()) throw InputError("cannot write STEP: a degenerate polygon");
-  BRepBuilderAPI_MakeFace face(poly.Wire(), Standard_True);
+  return poly.Wire();
+}
+
+// A closed planar polygon, as a face.
+TopoDS_Face polygon_face(const std::vector<gp_Pnt>& pts) {
+  BRepBuilderAPI_MakeFace face(polygon_wire(pts), Standard_True);
   if (!face.IsDone()) throw InputError("cannot write STEP: a degenerate polygon");
   return face.Face();
 }
@@ -181,8 +188,42 @@ TopoDS_Shape nurbs_solid(const Primitive3D& p, const std::string& what) {
   return BRepAlgoAPI_Common(prism, slab).Shape();
 }
 
+// The regular n-gon of circumradius r at height z, vertex 0 on +x (OpenSCAD's $fn-gon).
+std::vector<gp_Pnt> regular_polygon(int n, double r, double z) {
+  std::vector<gp_Pnt> pts;
+  for (int i = 0; i < n; ++i)
+    pts.emplace_back(r * std::cos(2 * kPi * i / n), r * std::sin(2 * kPi * i / n), z);
+  return pts;
+}
+
+// A polygonal cylinder is the polygon extruded; a polygonal cone the ruled loft between its end
+// polygons (a pointed end a vertex), whose vertices pair up at equal angles.
+TopoDS_Shape polygonal_solid(const Primitive3D& p, const std::string& what) {
+  const Vec3& d = p.dims;
+  const bool cone = p.kind == PrimitiveKind3D::Cone;
+  const double r1 = finite(d[0], "bottom radius", what);
+  const double r2 = cone ? finite(d[1], "top radius", what) : r1;
+  const double h = positive(d[2], "height", what);
+  if (r1 < 0 || r2 < 0 || !(std::max(r1, r2) > 0))
+    throw InputError("cannot write STEP: " + what + " has a negative or zero radius");
+  if (p.sides < 3 || p.sides > Primitive3D::kMaxSides)
+    throw InputError("cannot write STEP: " + what + " has " + std::to_string(p.sides) + " sides");
+  if (r1 == r2) return extrude(polygon_face(regular_polygon(p.sides, r1, -h / 2)), h);
+  BRepOffsetAPI_ThruSections loft(Standard_True, Standard_True);
+  loft.CheckCompatibility(Standard_False);
+  for (const auto& [r, z] : {std::pair{r1, -h / 2}, std::pair{r2, h / 2}}) {
+    if (r > 0) loft.AddWire(polygon_wire(regular_polygon(p.sides, r, z)));
+    else loft.AddVertex(BRepBuilderAPI_MakeVertex(gp_Pnt(0, 0, z)).Vertex());
+  }
+  loft.Build();
+  if (!loft.IsDone())
+    throw InputError("cannot write STEP: " + what + ": the loft of its end polygons failed");
+  return loft.Shape();
+}
+
 TopoDS_Shape local_solid(const Primitive3D& p, const std::string& what) {
   const Vec3& d = p.dims;
+  if (p.is_polygonal()) return polygonal_solid(p, what);
   switch (p.kind) {
     case PrimitiveKind3D::Box: {
       const double x = positive(d[0], "size x", what), y = positive(d[1], "size y", what),

@@ -71,6 +71,8 @@ def paired_leaves(a: Any, b: Any, where: str = "tree") -> List[Dict[str, Any]]:
         for i, (ca, cb) in enumerate(zip(kids_a, kids_b)):
             leaves += paired_leaves(ca, cb, f"{where}.children[{i}]")
         return leaves
+    if "sides" in a or "sides" in b:  # csgfit morph never makes one
+        raise BuildError(f"{where}: a polygonal cylinder or cone is not morphed")
     makers = {**_MAKERS_2D, **_MAKERS_3D}
     maker = makers.get(a.get("type"))  # an unknown type is MorphTree.primitive's error
     if "op" in b or (maker is not None and maker is not makers.get(b.get("type"))):

@@ -28,6 +28,12 @@ Placement is centre + R * (local offset of that corner or base), rotation = the 
                               stays centred when the height changes)
   cone       Part::Cone       Radius1 (bottom) = r1, Radius2 = r2, Height; offset as a cylinder's
                               (a Part::Cylinder when r1 == r2: OCC refuses such a cone)
+  cylinder   Part::Prism      with "sides": Polygon = sides, Circumradius = r, Height; offset as a
+                              round cylinder's; its vertex 0 on local +x, as OpenSCAD's $fn-gon,
+                              so the rotation's turn about the axis is the polygon's phase
+  cone       Part::Loft       with "sides" (r1 != r2): Solid, Ruled, of two Part::RegularPolygon
+                              (Polygon = sides, Circumradius = r1 / r2) placed at local z = -h/2
+                              and +h/2, or a Part::Vertex at a pointed end
   ellipsoid  Part::Ellipsoid  Radius2 = rx, Radius3 = ry, Radius1 = rz (FreeCAD's Radius1 is z)
   torus      Part::Torus      Radius1 = R, Radius2 = r
   prism      Part::Wedge      the 2D triangle's wedge over z in [-depth/2, depth/2]; X2max and
@@ -48,6 +54,7 @@ from . import nurbs_feature
 
 PRIMITIVE_TYPES = ("Part::Box", "Part::Cylinder", "Part::Ellipse", "Part::Extrusion",
                    "Part::Wedge", "Part::Sphere", "Part::Cone", "Part::Ellipsoid", "Part::Torus",
+                   "Part::Prism", "Part::RegularPolygon", "Part::Vertex", "Part::Loft",
                    nurbs_feature.TYPE_ID)
 BOOLEAN_TYPES = ("Part::MultiFuse", "Part::MultiCommon", "Part::Cut", "Part::Fuse",
                  "Part::Common")
@@ -282,8 +289,13 @@ class PartTree:
 
     def _cylinder(self, d, where, radius="r"):
         r, h = _sizes(d, where, radius, "h")
-        obj = self._add("Part::Cylinder", "Cylinder")
-        obj.Radius, obj.Height = r, h
+        sides = _sides(d, where)
+        if sides:
+            obj = self._add("Part::Prism", "PolygonalCylinder")
+            obj.Polygon, obj.Circumradius, obj.Height = sides, r, h
+        else:
+            obj = self._add("Part::Cylinder", "Cylinder")
+            obj.Radius, obj.Height = r, h
         obj.Placement = _placement3d(d, where, (0.0, 0.0, -h / 2))
         _keep_centred_on_axis(obj, _vector(d, "center", 3, where))
         return obj, obj
@@ -296,10 +308,30 @@ class PartTree:
         h = _number(d, "h", where, True)
         if r1 < 0 or r2 < 0 or max(r1, r2) <= 0:
             raise BuildError(f"{where}: 'r1' and 'r2' must be >= 0, one of them > 0")
+        sides = _sides(d, where)
+        if sides:
+            return self._pyramid_frustum(d, where, sides, (r1, r2), h)
         obj = self._add("Part::Cone", "Cone")
         obj.Radius1, obj.Radius2, obj.Height = r1, r2, h
         obj.Placement = _placement3d(d, where, (0.0, 0.0, -h / 2))
         _keep_centred_on_axis(obj, _vector(d, "center", 3, where))
+        return obj, obj
+
+    def _pyramid_frustum(self, d, where, sides, radii, h):
+        """The ruled loft between the end polygons (their vertices at the same angles, as
+        OpenSCAD's cylinder($fn) has them); a pointed end is a vertex."""
+        ends = []
+        for r, z, label in zip(radii, (-h / 2, h / 2), ("ConeBottom", "ConeTop")):
+            if r > 0:
+                end = self._add("Part::RegularPolygon", label)
+                end.Polygon, end.Circumradius = sides, r
+            else:
+                end = self._add("Part::Vertex", label)
+            end.Placement = _placement3d(d, where, (0.0, 0.0, z))
+            ends.append(end)
+        obj = self._add("Part::Loft", "PolygonalCone")
+        obj.Sections = ends
+        obj.Solid = obj.Ruled = True
         return obj, obj
 
     def _ellipsoid(self, d, where):
@@ -364,6 +396,20 @@ def _nurbs_leaf(d: Dict[str, Any], where: str) -> Dict[str, Any]:
             "knots_v": _vector(d, "knots_v", None, where),
             "control_points": [_numbers(p, 3, f"{where}: control point {k}")
                                for k, p in enumerate(points)]}
+
+
+#: The most sides a polygonal cylinder or cone may have (Primitive3D::kMaxSides).
+MAX_SIDES = 1000
+
+
+def _sides(d: Dict[str, Any], where: str) -> int:
+    """A cylinder's or cone's "sides": 0 when it is round (no "sides"), else its polygon's."""
+    if "sides" not in d:
+        return 0
+    v = d["sides"]
+    if not isinstance(v, int) or isinstance(v, bool) or not 3 <= v <= MAX_SIDES:
+        raise BuildError(f"{where}: 'sides' must be an integer from 3 to {MAX_SIDES}")
+    return v
 
 
 def _sizes(d: Dict[str, Any], where: str, *keys: str) -> List[float]:

@@ -70,7 +70,10 @@ def bind(sheet, shared: Sequence[Any], primitives: Sequence[Tuple[Dict[str, Any]
             d, holder, _ = primitives[leaf]
             prop = _PROPERTY.get((d.get("type"), field))
             own = d.get(field)
-            if prop is None or not isinstance(own, (int, float)):
+            # A polygonal cylinder's Part::Prism has a Circumradius, no Radius: the solver never
+            # shares a polygon's radius with a circle's, but a hand-edited document may.
+            if prop is None or not isinstance(own, (int, float)) \
+                    or prop.split(".")[0] not in holder.PropertiesList:
                 continue
             if not math.isclose(float(own), value, rel_tol=1e-9, abs_tol=1e-12):
                 continue

@@ -3,6 +3,7 @@
 // pruning that refits what is left (prune.h) so that a sliver beside a plate goes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "csgfit/model/shared_dimensions.h"
 #include "csgfit/optimise/prune.h"
 #include "csgfit/optimise/snap2d.h"
+#include "csgfit/refine/local_opt.h"
 #include "refine/moves2d.h"
 #include "refine/moves3d.h"
 
@@ -207,6 +209,18 @@ TEST(SharedDimensions3D, EqualHolesThroughAPlateShareTheirRadiusAndHeight) {
                                                      {2, DimensionField::Length}}));
 }
 
+// A hexagonal nut trap beside a round hole of its circumradius: one height, two radii.
+TEST(SharedDimensions3D, APolygonsCircumradiusIsNotSharedWithACircle) {
+  Primitive3D nut = Primitive3D::cylinder(38, 15, 3, 4, 10);
+  nut.sides = 6;
+  const Node3D plate = Node3D::op(
+      NodeKind::Difference, {leaf3d(Primitive3D::box(25, 15, 3, 50, 30, 6)),
+                             leaf3d(Primitive3D::cylinder(12, 15, 3, 4, 10)), leaf3d(nut)});
+  const auto dims = shared_dimensions(plate);
+  ASSERT_EQ(dims.size(), 1u);
+  EXPECT_EQ(dims[0].name, "hole_h");
+}
+
 TEST(SharedDimensions3D, NamesSayHoleCylinderOrSphere) {
   const Node3D t = Node3D::op(
       NodeKind::Union, {leaf3d(Primitive3D::sphere(0, 0, 0, 2)), leaf3d(Primitive3D::sphere(9, 0, 0, 2)),
@@ -263,13 +277,39 @@ TEST(LocalOpt, MovesOneSideOfARectangleAndKeepsTheOthers) {
   }
 }
 
+// A polygon's turn about its axis is its phase, which a round cylinder does not have: the
+// optimiser turns a hexagonal prism onto a target turned by 20 degrees, and it stays a hexagon.
+TEST(LocalOpt, TurnsAPolygonAboutItsAxisAndKeepsItsSides) {
+  Primitive3D hex = Primitive3D::cylinder(16, 16, 16, 10, 12);
+  Moves3D::Param params[Moves3D::kMaxParams];
+  const int round = Moves3D{1.0}.params_of(hex, LocalOptOptions{}, params);
+  EXPECT_EQ(std::count(params, params + round, Moves3D::Param::TurnZ), 0);
+  hex.sides = 6;
+  const int polygonal = Moves3D{1.0}.params_of(hex, LocalOptOptions{}, params);
+  EXPECT_EQ(polygonal, round + 1);
+  EXPECT_EQ(std::count(params, params + polygonal, Moves3D::Param::TurnZ), 1);
+  Primitive3D truth = hex;
+  truth.rotation = Quaternion::from_axis_angle(0, 0, 1, 20);
+  VoxelGrid target(32, 32, 32, 0, 0, 0, 1.0);
+  rasterize(truth, target);
+  Node3D tree = Node3D::leaf(hex);
+  TreeEvaluator3D ev(target, tree);
+  const std::size_t before = ev.mismatch().total();
+  optimize_leaves(ev, LocalOptOptions{});
+  EXPECT_LT(ev.mismatch().total(), before / 4);
+  EXPECT_EQ(ev.leaf(0).sides, 6);
+  const Mat3 m = ev.leaf(0).rotation.matrix();
+  const double phase = std::fmod(std::atan2(m[1][0], m[0][0]) * 180 / M_PI + 360, 60);
+  EXPECT_NEAR(phase, 20, 3);
+}
+
 TEST(LocalOpt, MovesOneFaceOfABoxAndKeepsTheOthers) {
   // The range refinement's boxes: a face the views see a hair off moves alone.
   const Primitive3D box = Primitive3D::box(1, 2, 3, 4, 5, 6, Quaternion::from_axis_angle(1, 1, 0, 30));
   Moves3D moves{0.1};
   moves.box_faces = true;
   Moves3D::Param params[Moves3D::kMaxParams];
-  ASSERT_EQ(moves.params_of(PrimitiveKind3D::Box, LocalOptOptions{}, params), 6 + 3 + 3);
+  ASSERT_EQ(moves.params_of(box, LocalOptOptions{}, params), 6 + 3 + 3);
   // The offset of face f along its outward normal.
   const auto offset = [](const Primitive3D& p, int f) {
     const Mat3 r = p.rotation.matrix();

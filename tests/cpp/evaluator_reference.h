@@ -29,8 +29,9 @@ Mismatch mismatch_of(const Grid& raster, const Grid& target) {
   return {count_and_not(raster, target), count_and_not(target, raster)};
 }
 
-/// A random 3D primitive of `kind` (in PrimitiveKind3D order) centred in the box [lo, hi], its
-/// sizes in [dim_lo, dim_hi], under a uniformly random rotation; a third of the cones are pointed.
+/// A random 3D primitive of `kind` (in PrimitiveKind3D order, then 7 and 8 for the polygonal
+/// cylinder and cone of 3 to 12 sides) centred in the box [lo, hi], its sizes in
+/// [dim_lo, dim_hi], under a uniformly random rotation; a third of the round cones are pointed.
 inline Primitive3D random_primitive3d(std::mt19937_64& rng, int kind, const Vec3& lo, const Vec3& hi,
                                       double dim_lo, double dim_hi) {
   std::uniform_real_distribution<double> dim(dim_lo, dim_hi), apex(-1, 1), unit(0, 1);
@@ -53,7 +54,14 @@ inline Primitive3D random_primitive3d(std::mt19937_64& rng, int kind, const Vec3
       const double major = dim(rng) / 2;
       return Primitive3D::torus(x, y, z, major, major * (0.25 + 0.6 * unit(rng)), q);
     }
-    default: return Primitive3D::prism(x, y, z, dim(rng), dim(rng), dim(rng), apex(rng), q);
+    case 6: return Primitive3D::prism(x, y, z, dim(rng), dim(rng), dim(rng), apex(rng), q);
+    default: {
+      Primitive3D p =
+          kind == 7 ? Primitive3D::cylinder(x, y, z, dim(rng) / 2, dim(rng), q)
+                    : Primitive3D::cone(x, y, z, dim(rng) / 2, dim(rng) / 3, dim(rng), q);
+      p.sides = 3 + static_cast<int>(rng() % 10);
+      return p;
+    }
   }
 }
 
@@ -127,7 +135,7 @@ struct Solid {
 
   static VoxelGrid frame() { return VoxelGrid(kNx, kNy, kNz, -1.0, 0.5, 2.0, 0.5); }
   static Primitive3D random_primitive(std::mt19937_64& rng) {
-    const int kind = static_cast<int>(rng() % 7);
+    const int kind = static_cast<int>(rng() % 9);
     return random_primitive3d(rng, kind, {2, 3, 4}, {17, 16, 16}, 2, 12);
   }
   static Node3D random_tree(std::mt19937_64& rng, int depth) {

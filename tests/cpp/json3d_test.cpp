@@ -11,6 +11,12 @@
 namespace csgfit {
 namespace {
 
+Primitive3D polygonal(Primitive3D p, int sides) {
+  p.sides = sides;
+  return p;
+}
+
+// Every kind, and the polygonal cylinder and cone (whose turn about the axis counts).
 Node3D every_kind() {
   const Quaternion tilt = Quaternion::from_euler_deg(23, -37, 61);
   return Node3D::op(
@@ -23,7 +29,9 @@ Node3D every_kind() {
        Node3D::leaf(Primitive3D::cylinder(0, 0, 0, 1.2, 3.5, tilt)),
        Node3D::op(NodeKind::Intersection,
                   {Node3D::leaf(Primitive3D::cone(0, 1, -2, 0, 1.3, 2.2, tilt)),
-                   Node3D::leaf(Primitive3D::prism(0.5, -0.5, 1, 3, 2, 1.5, 0.6, tilt))})});
+                   Node3D::leaf(Primitive3D::prism(0.5, -0.5, 1, 3, 2, 1.5, 0.6, tilt))}),
+       Node3D::leaf(polygonal(Primitive3D::cylinder(1, 0, 0, 1.2, 3.5, tilt), 6)),
+       Node3D::leaf(polygonal(Primitive3D::cone(0, 1, 2, 1.4, 0.3, 2.2, tilt), 1000))});
 }
 
 TEST(Json3D, WhatIsWrittenReadsBackAsTheSameTree) {
@@ -47,6 +55,7 @@ TEST(Json3D, WhatIsWrittenReadsBackAsTheSameTree) {
     EXPECT_DOUBLE_EQ(a[i]->cz, b[i]->cz);
     for (int d = 0; d < 3; ++d) EXPECT_DOUBLE_EQ(a[i]->dims[d], b[i]->dims[d]) << i;
     EXPECT_DOUBLE_EQ(a[i]->apex, b[i]->apex);
+    EXPECT_EQ(a[i]->sides, b[i]->sides) << i;
     EXPECT_NEAR(a[i]->rotation.w, b[i]->rotation.w, 1e-15);
     EXPECT_NEAR(a[i]->rotation.x, b[i]->rotation.x, 1e-15);
     EXPECT_NEAR(a[i]->rotation.z, b[i]->rotation.z, 1e-15);
@@ -73,6 +82,35 @@ TEST(Json3D, TwoDimensionalAndBadDocumentsAreRefused) {
     }
   }
   EXPECT_THROW(from_json3d(R"({"schema": "csgfit/1", "dimension": 2, "tree": {}})"), InputError);
+}
+
+// "sides" is written for polygonal cylinders and cones only, and read back only as an integer
+// from 3 to 1000 on one of them.
+TEST(Json3D, SidesAreWrittenWhenPolygonalAndCheckedWhenRead) {
+  FitResult3D result;
+  result.tree = every_kind();
+  const std::string text = to_json3d(result, VoxelGrid(4, 4, 4, 0, 0, 0, 1), "part.stl");
+  EXPECT_NE(text.find("\"sides\": 6"), std::string::npos);
+  EXPECT_NE(text.find("\"sides\": 1000"), std::string::npos);
+  EXPECT_EQ(text.find("\"sides\": 0"), std::string::npos);
+  const std::string head =
+      R"({"schema": "csgfit/1", "dimension": 3, "units": "mm", "tree": {"type": )";
+  const std::string cylinder = R"("cylinder", "center": [0, 0, 0], "r": 1, "h": 2, "sides": )";
+  const std::string cone = R"("cone", "center": [0, 0, 0], "r1": 1, "r2": 0, "h": 2, "sides": )";
+  const std::string box = R"("box", "center": [0, 0, 0], "size": [1, 1, 1], "sides": )";
+  EXPECT_EQ(from_json3d(head + cylinder + "3}}").primitive.sides, 3);
+  EXPECT_EQ(from_json3d(head + cone + "5}}").primitive.sides, 5);
+  for (const std::string& tree : {cylinder + "2}", cylinder + "1001}", cylinder + "6.5}",
+                                  cylinder + "-6}", cylinder + "\"6\"}", cylinder + "null}",
+                                  box + "6}"}) {
+    try {
+      from_json3d(head + tree + "}");
+      ADD_FAILURE() << "accepted " << tree;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("sides"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -182,6 +182,39 @@ TEST(SnapToDesignValues, SquaresUpNearlyAlignedPrimitivesAndEqualisesRadii) {
   EXPECT_LE(ev2.mismatch().total(), before);
 }
 
+// A hex prism's turn about its axis is its phase: squaring up its axis keeps it (30 degrees:
+// flats towards x), a turn of 22 degrees stays 22, and 61 is the same hexagon as 1 and becomes
+// 0. Its circumradius is not made equal to a round hole's radius.
+TEST(SnapToDesignValues, KeepsAPolygonsPhaseAndItsOwnRadius) {
+  const VoxelGrid frame(40, 40, 40, 0, 0, 0, 1.0);
+  const VoxelGrid target = frame;
+  auto hex = [](double x, double r, const Quaternion& q) {
+    Primitive3D p = Primitive3D::cylinder(x, 20, 20, r, 12, q);
+    p.sides = 6;
+    return p;
+  };
+  const Quaternion tilt = Quaternion::from_euler_deg(1.5, 0, 0);
+  auto turn = [](double degrees) { return Quaternion::from_axis_angle(0, 0, 1, degrees); };
+  Node3D tree = Node3D::op(
+      NodeKind::Union, {Node3D::leaf(Primitive3D::cylinder(6, 20, 20, 2.0, 12)),
+                        Node3D::leaf(hex(14, 2.03, tilt * turn(30))),
+                        Node3D::leaf(hex(22, 3, tilt * turn(22))),
+                        Node3D::leaf(hex(30, 3, turn(61)))});
+  TreeEvaluator3D ev(target, tree);
+  snap_to_design_values(ev, 1e9);
+  auto expect_turn = [&](std::size_t leaf, double degrees) {
+    const Mat3 got = ev.leaf(leaf).rotation.matrix();
+    const Mat3 want = Quaternion::from_axis_angle(0, 0, 1, degrees).matrix();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) EXPECT_NEAR(got[i][j], want[i][j], 2e-3) << "leaf " << leaf;
+  };
+  expect_turn(1, 30);
+  expect_turn(2, 22);
+  expect_turn(3, 0);
+  EXPECT_EQ(ev.leaf(1).dims[0], 2.03);
+  EXPECT_EQ(ev.leaf(1).sides, 6);
+}
+
 // A boss with a bore through it, fitted with the bore 0.3 voxel off the boss's axis: the bore
 // becomes coaxial with the boss; a second hole 3 voxels away stays where it is.
 TEST(SnapToDesignValues, MakesNearlyCoaxialCylindersCoaxial) {

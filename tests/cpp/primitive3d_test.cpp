@@ -1,5 +1,6 @@
 // 3D primitives: volumes of their voxelisations, rasterize against contains() voxel by voxel,
-// signed distances (sign, exactness), Euler angles, bounds, and rasterize timings.
+// signed distances (sign, exactness), Euler angles, bounds, and rasterize timings; every kind,
+// and the polygonal cylinder and cone (polygonal_primitive_test.cpp has their own values).
 #include "csgfit/model/primitive3d.h"
 
 #include <gtest/gtest.h>
@@ -20,6 +21,28 @@ const PrimitiveKind3D kKinds[] = {PrimitiveKind3D::Box,      PrimitiveKind3D::Sp
                                   PrimitiveKind3D::Ellipsoid, PrimitiveKind3D::Torus,
                                   PrimitiveKind3D::TriangularPrism};
 
+// A kind, round or with a regular polygon of 3 to 12 sides as its section.
+struct Shape {
+  PrimitiveKind3D kind;
+  bool polygonal = false;
+};
+// Every kind, then the polygonal ones last (the round kinds draw the random numbers they drew
+// before there were polygons).
+const Shape kShapes[] = {{PrimitiveKind3D::Box},      {PrimitiveKind3D::Sphere},
+                         {PrimitiveKind3D::Cylinder}, {PrimitiveKind3D::Cone},
+                         {PrimitiveKind3D::Ellipsoid}, {PrimitiveKind3D::Torus},
+                         {PrimitiveKind3D::TriangularPrism}, {PrimitiveKind3D::Cylinder, true},
+                         {PrimitiveKind3D::Cone, true}};
+
+Primitive3D polygonal(Primitive3D p, int sides) {
+  p.sides = sides;
+  return p;
+}
+
+std::string name(const Shape& shape) {
+  return std::string(to_string(shape.kind)) + (shape.polygonal ? " (polygonal)" : "");
+}
+
 Quaternion random_rotation(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0, 1);
   Quaternion q{g(rng), g(rng), g(rng), g(rng)};
@@ -28,8 +51,8 @@ Quaternion random_rotation(std::mt19937_64& rng) {
 }
 
 // A primitive of the kind with sizes in [lo, hi], centred at c, randomly rotated.
-Primitive3D random_primitive(std::mt19937_64& rng, PrimitiveKind3D kind, double c[3], double lo,
-                             double hi) {
+Primitive3D random_round(std::mt19937_64& rng, PrimitiveKind3D kind, double c[3], double lo,
+                         double hi) {
   std::uniform_real_distribution<double> size(lo, hi), apex(-1.2, 1.2), unit(0, 1);
   const Quaternion q = random_rotation(rng);
   switch (kind) {
@@ -56,11 +79,10 @@ Primitive3D random_primitive(std::mt19937_64& rng, PrimitiveKind3D kind, double 
   return {};
 }
 
-Primitive3D random_in(std::mt19937_64& rng, PrimitiveKind3D kind, double extent, double lo,
-                      double hi) {
-  std::uniform_real_distribution<double> pos(0.2 * extent, 0.8 * extent);
-  double c[3] = {pos(rng), pos(rng), pos(rng)};
-  return random_primitive(rng, kind, c, lo, hi);
+Primitive3D random_primitive(std::mt19937_64& rng, const Shape& shape, double c[3], double lo,
+                             double hi) {
+  const Primitive3D p = random_round(rng, shape.kind, c, lo, hi);
+  return shape.polygonal ? polygonal(p, 3 + static_cast<int>(rng() % 10)) : p;
 }
 
 }  // namespace
@@ -140,21 +162,21 @@ TEST(Primitive3D, NormalizeKeepsShapesValid) {
 TEST(Primitive3D, VoxelCountMatchesVolume) {
   std::mt19937_64 rng(11);
   VoxelGrid g(128, 128, 128, -64, -64, -64, 1.0);
-  for (PrimitiveKind3D kind : kKinds) {
+  for (const Shape& shape : kShapes) {
     for (int trial = 0; trial < 4; ++trial) {
       double c[3] = {0.3, -0.7, 0.2};
       Primitive3D p;
       // Large (a tube of >= 10 voxels for tori) and inside the grid.
       for (;;) {
-        p = random_primitive(rng, kind, c, 40, 110);
+        p = random_primitive(rng, shape, c, 40, 110);
         const Bounds3 b = p.bounds();
         const bool fits = *std::min_element(b.lo.begin(), b.lo.end()) > -63 &&
                           *std::max_element(b.hi.begin(), b.hi.end()) < 63;
-        if (fits && (kind != PrimitiveKind3D::Torus || p.dims[1] >= 10)) break;
+        if (fits && (shape.kind != PrimitiveKind3D::Torus || p.dims[1] >= 10)) break;
       }
       rasterize(p, g);
       const double count = static_cast<double>(g.count());
-      EXPECT_NEAR(count / p.volume(), 1.0, 0.01) << to_string(kind) << " trial " << trial;
+      EXPECT_NEAR(count / p.volume(), 1.0, 0.01) << name(shape) << " trial " << trial;
     }
   }
 }
@@ -163,12 +185,12 @@ TEST(Primitive3D, VoxelCountMatchesVolume) {
 TEST(Primitive3D, RasterizeAgreesWithContainsOnEveryVoxel) {
   std::mt19937_64 rng(5);
   VoxelGrid g(70, 40, 36, -2.5, 1.0, 0.25, 0.75);
-  for (PrimitiveKind3D kind : kKinds) {
+  for (const Shape& shape : kShapes) {
     std::size_t checked = 0;
     for (int trial = 0; trial < 25; ++trial) {
       std::uniform_real_distribution<double> px(-8, 52), py(-2, 30), pz(-3, 28);
       double c[3] = {px(rng), py(rng), pz(rng)};
-      const Primitive3D p = random_primitive(rng, kind, c, 2, 30);
+      const Primitive3D p = random_primitive(rng, shape, c, 2, 30);
       rasterize(p, g);
       std::size_t inside = 0;
       for (int k = 0; k < g.nz(); ++k)
@@ -177,12 +199,12 @@ TEST(Primitive3D, RasterizeAgreesWithContainsOnEveryVoxel) {
             const bool want = p.contains(g.center_x(i), g.center_y(j), g.center_z(k));
             inside += want;
             ASSERT_EQ(g.get(i, j, k), want)
-                << to_string(kind) << " trial " << trial << " voxel " << i << "," << j << ","
+                << name(shape) << " trial " << trial << " voxel " << i << "," << j << ","
                 << k << " sd " << p.signed_distance(g.center_x(i), g.center_y(j), g.center_z(k));
           }
       checked += inside;
     }
-    EXPECT_GT(checked, 1000u) << to_string(kind);  // the test saw real shapes
+    EXPECT_GT(checked, 1000u) << name(shape);  // the test saw real shapes
   }
 }
 
@@ -208,35 +230,36 @@ TEST(Primitive3D, AxisAlignedShapesOnTheGrid) {
 TEST(Primitive3D, SignedDistanceSignAgreesWithContains) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> pt(-20, 20);
-  for (PrimitiveKind3D kind : kKinds) {
+  for (const Shape& shape : kShapes) {
     int inside = 0;
     for (int trial = 0; trial < 40; ++trial) {
       double c[3] = {0, 0, 0};
-      const Primitive3D p = random_primitive(rng, kind, c, 3, 30);
+      const Primitive3D p = random_primitive(rng, shape, c, 3, 30);
       for (int s = 0; s < 500; ++s) {
         const double x = pt(rng), y = pt(rng), z = pt(rng);
         const double d = p.signed_distance(x, y, z);
         if (std::fabs(d) < 1e-9) continue;
-        ASSERT_EQ(d < 0, p.contains(x, y, z)) << to_string(kind) << " d=" << d;
+        ASSERT_EQ(d < 0, p.contains(x, y, z)) << name(shape) << " d=" << d;
         inside += d < 0;
       }
     }
-    EXPECT_GT(inside, 100) << to_string(kind);
+    EXPECT_GT(inside, 100) << name(shape);
   }
 }
 
 TEST(Primitive3D, SignedDistancesOfManyPointsAreEachPointsOwn) {
   std::mt19937_64 rng(29);
   std::uniform_real_distribution<double> pt(-20, 20);
-  for (PrimitiveKind3D kind : kKinds) {
+  for (const Shape& shape : kShapes) {
     double c[3] = {1, -2, 3};
-    const Primitive3D p = random_primitive(rng, kind, c, 3, 30);
+    const Primitive3D p = random_primitive(rng, shape, c, 3, 30);
     std::vector<Vec3> points(300);
     for (Vec3& q : points) q = {pt(rng), pt(rng), pt(rng)};
     std::vector<double> batch(points.size());
     p.signed_distances(points.data(), points.size(), batch.data());
     for (std::size_t i = 0; i < points.size(); ++i)
-      ASSERT_EQ(batch[i], p.signed_distance(points[i][0], points[i][1], points[i][2])) << to_string(kind);
+      ASSERT_EQ(batch[i], p.signed_distance(points[i][0], points[i][1], points[i][2]))
+          << name(shape);
   }
 }
 
@@ -286,25 +309,29 @@ TEST(Primitive3D, SignedDistanceIsExactForBoxSphereCylinderTorus) {
 }
 
 // For an exact distance, stepping -d along the normal lands on the surface, and the distance
-// is 1-Lipschitz; cone and prism are checked this way (and box, cylinder, torus again).
+// is 1-Lipschitz; cone, prism and the polygonal cylinder are checked this way (and box,
+// cylinder, torus again).
 TEST(Primitive3D, SignedDistanceProjectsOntoTheSurface) {
   std::mt19937_64 rng(29);
   std::uniform_real_distribution<double> pt(-15, 15);
-  for (PrimitiveKind3D kind : kKinds) {
-    if (kind == PrimitiveKind3D::Ellipsoid) continue;  // a bound, not exact
+  for (const Shape& shape : kShapes) {
+    // Bounds, not exact: the ellipsoid's, and the pyramid frustum's face planes.
+    if (shape.kind == PrimitiveKind3D::Ellipsoid ||
+        (shape.polygonal && shape.kind == PrimitiveKind3D::Cone))
+      continue;
     for (int trial = 0; trial < 10; ++trial) {
       double c[3] = {0, 0, 0};
-      const Primitive3D p = random_primitive(rng, kind, c, 4, 20);
+      const Primitive3D p = random_primitive(rng, shape, c, 4, 20);
       for (int s = 0; s < 300; ++s) {
         const double x = pt(rng), y = pt(rng), z = pt(rng);
         const double d = p.signed_distance(x, y, z);
         const Vec3 n = p.normal_at(x, y, z);
         if (n == Vec3{0, 0, 0}) continue;
         const double on = p.signed_distance(x - d * n[0], y - d * n[1], z - d * n[2]);
-        ASSERT_NEAR(on, 0, 1e-4 * (1 + std::fabs(d))) << to_string(kind) << " d=" << d;
+        ASSERT_NEAR(on, 0, 1e-4 * (1 + std::fabs(d))) << name(shape) << " d=" << d;
         const double x2 = pt(rng), y2 = pt(rng), z2 = pt(rng);
         const double dist = std::sqrt((x - x2) * (x - x2) + (y - y2) * (y - y2) + (z - z2) * (z - z2));
-        ASSERT_LE(std::fabs(d - p.signed_distance(x2, y2, z2)), dist + 1e-9) << to_string(kind);
+        ASSERT_LE(std::fabs(d - p.signed_distance(x2, y2, z2)), dist + 1e-9) << name(shape);
       }
     }
   }
@@ -332,10 +359,10 @@ TEST(Primitive3D, EllipsoidDistanceIsZeroOnTheSurfaceAndExactForSpheres) {
 
 TEST(Primitive3D, BoundsAreTightAndHoldEveryVoxel) {
   std::mt19937_64 rng(31);
-  for (PrimitiveKind3D kind : kKinds) {
+  for (const Shape& shape : kShapes) {
     for (int trial = 0; trial < 20; ++trial) {
       double c[3] = {0, 0, 0};
-      const Primitive3D p = random_primitive(rng, kind, c, 4, 20);
+      const Primitive3D p = random_primitive(rng, shape, c, 4, 20);
       const Bounds3 b = p.bounds();
       // A fine grid over the bounds, one voxel of margin: the set voxels reach within two
       // voxels of every face (tight) and none lies outside (sound).
@@ -354,10 +381,10 @@ TEST(Primitive3D, BoundsAreTightAndHoldEveryVoxel) {
               for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], idx[a]), hi[a] = std::max(hi[a], idx[a]);
             }
       for (int a = 0; a < 3; ++a) {
-        EXPECT_GE(lo[a], 1) << to_string(kind);
-        EXPECT_LE(hi[a], n[a] - 2) << to_string(kind);
-        EXPECT_LE(lo[a], 3) << to_string(kind) << " axis " << a;
-        EXPECT_GE(hi[a], n[a] - 4) << to_string(kind) << " axis " << a;
+        EXPECT_GE(lo[a], 1) << name(shape);
+        EXPECT_LE(hi[a], n[a] - 2) << name(shape);
+        EXPECT_LE(lo[a], 3) << name(shape) << " axis " << a;
+        EXPECT_GE(hi[a], n[a] - 4) << name(shape) << " axis " << a;
       }
     }
   }
@@ -375,6 +402,8 @@ TEST(Primitive3D, RasterizeTimingOn128Cube) {
       Primitive3D::ellipsoid(64, 64, 64, 50, 35, 25, q),
       Primitive3D::torus(64, 64, 64, 38, 14, q),
       Primitive3D::prism(64, 64, 64, 70, 60, 50, 0.3, q),
+      polygonal(Primitive3D::cylinder(64, 64, 64, 30, 80, q), 6),
+      polygonal(Primitive3D::cone(64, 64, 64, 35, 10, 80, q), 12),
   };
   for (const Primitive3D& p : prims) {
     rasterize(p, g);  // warm up
@@ -384,8 +413,8 @@ TEST(Primitive3D, RasterizeTimingOn128Cube) {
     const double us =
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() /
         reps;
-    std::printf("rasterize %-9s 128^3: %8.1f us  (%zu voxels)\n",
-                std::string(to_string(p.kind)).c_str(), us, g.count());
+    std::printf("rasterize %-9s %4d sides 128^3: %8.1f us  (%zu voxels)\n",
+                std::string(to_string(p.kind)).c_str(), p.sides, us, g.count());
     EXPECT_LT(us, 20000.0) << to_string(p.kind);
   }
 }

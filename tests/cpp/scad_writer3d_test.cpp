@@ -115,6 +115,44 @@ TEST(ScadWriter3D, AxisOfSymmetricPrimitivesNeedsTwoAngles) {
   }
 }
 
+// A polygonal cylinder or cone is its own $fn-gon: its exact radius (no fn_r), its sides a
+// parameter, and its whole rotation, the turn about its axis (the polygon's phase) included.
+TEST(ScadWriter3D, PolygonalCylindersAndConesAreWrittenAsTheirPolygons) {
+  Primitive3D nut = Primitive3D::cylinder(5, 5, 2, 3, 4, Quaternion::from_axis_angle(0, 0, 1, 30));
+  nut.sides = 6;
+  Primitive3D frustum = Primitive3D::cone(15, 5, 2, 3, 1, 4);
+  frustum.sides = 8;
+  const std::string scad =
+      to_scad(Node3D::op(NodeKind::Union, {Node3D::leaf(nut), Node3D::leaf(frustum)}));
+  EXPECT_TRUE(contains(scad, "cylinder(h = cyl_1_h, r = cyl_1_r, center = true, "
+                             "$fn = cyl_1_sides);"))
+      << scad;
+  EXPECT_TRUE(contains(scad, "cyl_1_sides = 6; // [3:1:64]"));
+  EXPECT_TRUE(contains(scad, "cyl_1_rot_z = 30; //"));
+  EXPECT_TRUE(contains(scad, "cylinder(h = cone_2_h, r1 = cone_2_r1, r2 = cone_2_r2, "
+                             "center = true, $fn = cone_2_sides);"));
+  EXPECT_TRUE(contains(scad, "cone_2_sides = 8; //"));
+  EXPECT_TRUE(lacks(scad, "fn_r"));
+  std::mt19937_64 rng(6);
+  std::normal_distribution<double> g(0, 1);
+  for (int i = 0; i < 20; ++i) {
+    Quaternion q{g(rng), g(rng), g(rng), g(rng)};
+    q.normalize();
+    nut.rotation = q;
+    const std::string turned = to_scad(Node3D::leaf(nut));
+    auto value = [&](const std::string& name) {
+      const std::size_t pos = turned.find(name + " = ");
+      return pos == std::string::npos ? 0.0 : std::stod(turned.substr(pos + name.size() + 3));
+    };
+    const Mat3 got = Quaternion::from_euler_deg(value("cyl_1_rot_x"), value("cyl_1_rot_y"),
+                                                value("cyl_1_rot_z"))
+                         .matrix();
+    const Mat3 want = q.matrix();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[r][c], want[r][c], 1e-5);
+  }
+}
+
 TEST(ScadWriter3D, SourceNamesAreSafe) {
   ScadOptions3D options;
   options.source = "evil\n}module x(){";
@@ -182,13 +220,14 @@ TEST(ScadWriter3DRoundTrip, DumpFilesForOpenScad) {
   std::mt19937_64 rng(2024);
   ScadOptions3D options;
   options.fn = 48;
-  // Trees 0-6: every kind alone; 7-11: random trees of three or four primitives.
-  for (int t = 0; t < 12; ++t) {
+  // Trees 0-8: every kind alone (7, 8: the polygonal cylinder and cone); 9-13: random trees of
+  // three or four primitives.
+  for (int t = 0; t < 14; ++t) {
     Node3D tree;
-    if (t < 7) {
+    if (t < 9) {
       tree = Node3D::leaf(random_primitive(rng, t));
     } else {
-      auto pick = [&] { return Node3D::leaf(random_primitive(rng, static_cast<int>(rng() % 7))); };
+      auto pick = [&] { return Node3D::leaf(random_primitive(rng, static_cast<int>(rng() % 9))); };
       const NodeKind op = t % 3 == 0 ? NodeKind::Intersection : NodeKind::Union;
       tree = Node3D::op(NodeKind::Difference, {Node3D::op(op, {pick(), pick()}), pick()});
       if (t % 2) tree = Node3D::op(NodeKind::Union, {tree, pick()});

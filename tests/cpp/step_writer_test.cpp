@@ -78,6 +78,11 @@ void expect_same_points(const TopoDS_Shape& shape, const Bounds3& b, const Insid
   EXPECT_EQ(agreed, checked) << what << ": OCCT's solid is not where the primitive is";
 }
 
+Primitive3D polygonal(Primitive3D p, int sides) {
+  p.sides = sides;
+  return p;
+}
+
 std::vector<Primitive3D> tilted_primitives() {
   return {
       Primitive3D::box(1, 2, 3, 4, 2.5, 1.5, kTilt),
@@ -91,6 +96,11 @@ std::vector<Primitive3D> tilted_primitives() {
       Primitive3D::torus(0, 0, 0, 1.0, 1.0, kTilt),               // horn torus (r = R)
       Primitive3D::prism(0.5, -0.5, 1, 3, 2, 1.5, 0.6, kTilt),    // off-centre apex
       Primitive3D::prism(0, 0, 0, 2, 3, 1, -1, kTilt),            // right-angled
+      polygonal(Primitive3D::cylinder(1, 0, 0, 1.2, 3.5, kTilt), 6),        // nut trap
+      polygonal(Primitive3D::cone(2, -1, 0.5, 1.5, 0.6, 2.8, kTilt), 8),    // pyramid frustum
+      polygonal(Primitive3D::cone(0, 1, -2, 0, 1.3, 2.2, kTilt), 5),        // tip at the bottom
+      polygonal(Primitive3D::cone(0, 1, -2, 1.1, 0, 2.2, kTilt), 3),        // tip at the top
+      polygonal(Primitive3D::cone(0, 1, -2, 1.1, 1.1, 2.2, kTilt), 12),     // radii equal
   };
 }
 
@@ -105,6 +115,14 @@ TEST(StepWriter, EachTiltedPrimitiveHasItsVolumeAndPlace) {
     expect_same_points(
         shape, p.bounds(), [&](double x, double y, double z) { return p.contains(x, y, z); },
         [&](double x, double y, double z) { return p.signed_distance(x, y, z); }, what);
+  }
+}
+
+// Polygonal cylinders and cones have plane faces only: their solids' volumes are exact.
+TEST(StepWriter, PolygonalPrimitivesHaveTheirExactVolume) {
+  for (const Primitive3D& p : tilted_primitives()) {
+    if (!p.is_polygonal()) continue;
+    EXPECT_NEAR(shape_volume(make_shape(p)), p.volume(), 1e-9 * p.volume()) << p.sides << " sides";
   }
 }
 

@@ -72,6 +72,22 @@ TEST(ReadSurface, KindsNotAllowedAreNotRead) {
   for (const SignedPrimitive& n : r.graph.nodes) EXPECT_EQ(n.primitive.kind, PrimitiveKind3D::Box);
 }
 
+// A hexagonal hole is not the round hole of its circumradius, nor the hexagon turned by 30
+// degrees: a pool keeps all three.
+TEST(AddDistinct, KeepsPolygonsApartFromCirclesAndByTheirPhase) {
+  const SignedPrimitive round{Primitive3D::cylinder(0, 0, 0, 3, 10), false};
+  SignedPrimitive hex = round;
+  hex.primitive.sides = 6;
+  SignedPrimitive turned = hex;
+  turned.primitive.rotation = Quaternion::from_axis_angle(0, 0, 1, 30);
+  EXPECT_TRUE(alike(hex, hex, 0.1));
+  EXPECT_FALSE(alike(round, hex, 0.1));
+  EXPECT_FALSE(alike(hex, turned, 0.1));
+  std::vector<SignedPrimitive> pool{round};
+  add_distinct(pool, {hex, turned, hex}, 10);
+  EXPECT_EQ(pool.size(), 3u);
+}
+
 TEST(OrientOutwards, FlipsTheNormalsThatPointIntoTheSolid) {
   // The block as voxels of 1, and every third normal turned inwards.
   VoxelGrid solid(44, 34, 16, -2, -2, -2, 1.0);

@@ -18,8 +18,16 @@ WORKBENCH = os.path.join(REPO, "freecad_workbench")
 
 if FREECAD_LIB not in sys.path:
     sys.path.append(FREECAD_LIB)
-if WORKBENCH not in sys.path:
-    sys.path.insert(0, WORKBENCH)
+# Importing FreeCAD puts the user's installed modules first on sys.path, and an installed CSG
+# Fit workbench (scripts/install_workbench.sh) may link another checkout: FreeCAD comes first,
+# then this checkout's workbench goes before it, so that the tests test the code beside them.
+try:
+    import FreeCAD  # noqa: F401
+except ImportError:
+    pass
+if WORKBENCH in sys.path:
+    sys.path.remove(WORKBENCH)
+sys.path.insert(0, WORKBENCH)
 if os.path.join(BUILD, "python") not in sys.path:
     sys.path.insert(0, os.path.join(BUILD, "python"))
 
@@ -165,7 +173,10 @@ def static_shape3d(node):
         return combine(node["op"], [static_shape3d(c) for c in node["children"]])
     t = node["type"]
     V = App.Vector
-    if t == "box":
+    if t in ("cylinder", "cone") and "sides" in node:
+        r1 = node.get("r1", node.get("r"))
+        s = polygonal_solid(node["sides"], r1, node.get("r2", r1), node["h"])
+    elif t == "box":
         sx, sy, sz = node["size"]
         s = Part.makeBox(sx, sy, sz, V(-sx / 2, -sy / 2, -sz / 2))
     elif t == "sphere":
@@ -196,6 +207,37 @@ def static_shape3d(node):
     s = s.copy()
     s.transformShape(m, True)
     return s
+
+
+def polygonal_volume(sides, r1, r2, h):
+    """Volume of the frustum of a regular pyramid (a prism when r1 == r2) of circumradii r1 at
+    the bottom and r2 at the top: the prismatoid formula over the n-gons' areas."""
+    return 0.5 * sides * math.sin(2 * math.pi / sides) * h / 3 * (r1 * r1 + r1 * r2 + r2 * r2)
+
+
+def polygonal_solid(sides, r1, r2, h):
+    """OpenSCAD's cylinder(h, r1, r2, center = true, $fn = sides) from its plane faces: vertex
+    i of both end polygons at 360 i / sides degrees; a radius of 0 is an apex."""
+    import FreeCAD as App
+    import Part
+
+    def ring(r, z):
+        return [App.Vector(r * math.cos(2 * math.pi * i / sides),
+                           r * math.sin(2 * math.pi * i / sides), z) for i in range(sides)]
+
+    def face(pts):
+        pts = [p for k, p in enumerate(pts) if not p.isEqual(pts[k - 1], 1e-12)]
+        return Part.Face(Part.makePolygon(pts + [pts[0]]))
+
+    lo, hi = ring(r1, -h / 2), ring(r2, h / 2)
+    faces = [face(end) for end, r in ((lo, r1), (hi, r2)) if r > 0]
+    for i in range(sides):
+        j = (i + 1) % sides
+        faces.append(face([lo[i], lo[j], hi[j], hi[i]]))
+    solid = Part.Solid(Part.Shell(faces))
+    if solid.Volume < 0:
+        solid.reverse()
+    return solid
 
 
 def make_fixture(path, placement=None):

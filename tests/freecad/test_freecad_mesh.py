@@ -82,6 +82,46 @@ def test_every_3d_kind_is_placed_as_the_solver_defines_it(doc):
     assert not any(o.Visibility for o in built.objects if o is not built.root)
 
 
+POLYGONAL_3D = {"op": "union", "children": [
+    {"type": "cylinder", "center": [0, 0, 0], "rotation": TILT, "r": 3, "h": 5, "sides": 6},
+    {"type": "cone", "center": [10, 0, 0], "rotation": R30X, "r1": 3, "r2": 1.5, "h": 4,
+     "sides": 8},
+    {"type": "cone", "center": [20, 0, 0], "rotation": R45Z, "r1": 2, "r2": 0, "h": 4, "sides": 4},
+    {"type": "cone", "center": [30, 0, 0], "rotation": TILT, "r1": 0, "r2": 2, "h": 3, "sides": 5},
+    {"type": "cone", "center": [40, 0, 0], "r1": 2, "r2": 2, "h": 3, "sides": 3},
+]}
+
+
+def test_polygonal_cylinders_and_cones_are_their_polygons(doc):
+    built = builder.build(doc, POLYGONAL_3D, label="polygons")
+    assert builder.check_tree(doc, built.group) == []
+    assert [o.TypeId for _, o, _ in built.primitives] == [
+        "Part::Prism", "Part::Loft", "Part::Loft", "Part::Loft", "Part::Prism"]
+    for prim, _, obj in built.primitives:
+        r1 = prim.get("r1", prim.get("r"))
+        volume = H.polygonal_volume(prim["sides"], r1, prim.get("r2", r1), prim["h"])
+        shape = obj.Shape
+        assert shape.isValid() and len(shape.Solids) == 1, prim
+        assert shape.Volume == pytest.approx(volume, rel=1e-6), prim
+        # Where the solver puts it: its vertices at the angles OpenSCAD's $fn-gon has them.
+        ref = H.static_shape3d(prim)
+        assert shape.common(ref).Volume == pytest.approx(volume, rel=1e-6), prim
+    # The prism stays centred when its height is edited, as a round cylinder does.
+    prism = built.primitives[0][1]
+    prism.Height = 7.0
+    doc.recompute()
+    centre = prism.Shape.CenterOfMass
+    assert (centre.x, centre.y, centre.z) == pytest.approx((0, 0, 0), abs=1e-9)
+
+
+def test_bad_sides_raise_build_error(doc):
+    for sides in (2, 1001, 6.5, "6", True):
+        tree = {"type": "cylinder", "center": [0, 0, 0], "r": 1, "h": 2, "sides": sides}
+        with pytest.raises(builder.BuildError, match="sides"):
+            builder.build(doc, tree)
+        assert doc.Objects == []
+
+
 def test_editing_a_3d_box_and_prism_stays_parametric(doc):
     tree = {"op": "union", "children": [
         {"type": "box", "center": [0, 0, 0], "rotation": R45Z, "size": [4, 3, 2]},
@@ -231,6 +271,21 @@ def test_shared_hole_radius_cell_resizes_both_holes_in_3d(doc):
     assert builder.check_tree(doc, built.group) == []
     assert [built.primitives[i][1].Radius.Value for i in (1, 2)] == [3.0, 3.0]
     assert built.root.Shape.Volume == pytest.approx(50 * 30 * 6 - 2 * math.pi * 9 * 6, rel=1e-6)
+
+
+def test_a_polygons_circumradius_is_not_tied_to_a_shared_radius(doc):
+    # A hand-edited document: the second hole made a hexagon but still listed under hole_r.
+    result = copy.deepcopy(HOLED_PLATE_3D)
+    result["tree"]["children"][2]["sides"] = 6
+    built = builder.build(doc, result)
+    assert builder.check_tree(doc, built.group) == []
+    built.sheet.set("hole_r", "=3mm")
+    built.sheet.set("hole_h", "=12mm")
+    doc.recompute()
+    hexagon = built.primitives[2][1]
+    assert hexagon.TypeId == "Part::Prism"
+    assert (hexagon.Circumradius.Value, hexagon.Height.Value) == (4.0, 12.0)
+    assert built.primitives[1][1].Radius.Value == 3.0
 
 
 def test_shared_height_keeps_cylinders_centred(doc):

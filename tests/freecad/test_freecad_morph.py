@@ -260,6 +260,11 @@ def test_structure_mismatch_raises_and_leaves_nothing(doc):
         morph_builder.build_morph(doc, bad)
     with pytest.raises(builder.BuildError, match="not a morph"):
         morph_builder.build_morph(doc, interpolated(MORPH_2D, 0.5))
+    # csgfit morph never makes a polygonal cylinder: one in a hand-made document is refused.
+    bad = copy.deepcopy(MORPH_3D)
+    bad["morph"]["tree_b"]["children"][0]["children"][1]["sides"] = 6
+    with pytest.raises(builder.BuildError, match="polygonal"):
+        morph_builder.build_morph(doc, bad)
     assert doc.Objects == []
 
 

@@ -217,6 +217,20 @@ def test_3d_tree_objects_agree_with_the_json_document():
     assert str(r.tree).startswith("difference(box(center=(19")
 
 
+def test_a_polygonal_cylinder_shows_its_sides():
+    # The 3D document's leaves as csgfit.tree makes them: a hexagonal nut trap and a round hole.
+    doc = {"op": "difference", "children": [
+        {"type": "cylinder", "center": [0, 0, 0], "rotation": [1, 0, 0, 0],
+         "euler_deg": [0, 0, 0], "r": 3, "h": 5, "sides": 6},
+        {"type": "cylinder", "center": [0, 0, 0], "rotation": [1, 0, 0, 0],
+         "euler_deg": [0, 0, 0], "r": 1, "h": 9}]}
+    tree = csgfit.tree.tree_from_json3d(doc)
+    nut, hole = tree.children
+    assert (nut.sides, hole.sides) == (6, None)
+    assert tree.to_dict() == doc
+    assert "sides=6" in str(nut) and "sides" not in str(hole)
+
+
 def quaternion_matrix(q):
     w, x, y, z = q
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],

@@ -135,6 +135,8 @@ class Primitive3D(_Leaf):
     `w`, `h`, `apex` (its triangle, as in 2D) and `depth` along local z; nurbs (seed 004's
     NURBS terminal) `size` (sx, sy, top), `degree`, `counts`, `knots_u`, `knots_v` and
     `control_points` (local, u index fastest; the solid lies between local z = 0 and the patch).
+    sides: a cylinder's or cone's regular polygon (OpenSCAD's `$fn`, its vertices on the
+    circle of the radius, vertex 0 on local +x), None when it is round.
     """
 
     type: str
@@ -156,6 +158,7 @@ class Primitive3D(_Leaf):
     knots_u: Optional[Tuple[float, ...]] = None
     knots_v: Optional[Tuple[float, ...]] = None
     control_points: Optional[Tuple[Vec3, ...]] = None
+    sides: Optional[int] = None
 
     @classmethod
     def from_dict(cls, d: dict) -> "Primitive3D":
@@ -165,12 +168,15 @@ class Primitive3D(_Leaf):
                       for k, v in d.items() if k in names})
 
     def to_dict(self) -> dict:
-        """Plain dict, the JSON form: type, center, rotation, euler_deg, then the sizes."""
+        """Plain dict, the JSON form: type, center, rotation, euler_deg, the sizes, then sides
+        when the section is a polygon."""
         d = {"type": self.type, "center": list(self.center), "rotation": list(self.rotation),
              "euler_deg": list(self.euler_deg)}
         for name in SIZE_FIELDS_3D.get(self.type, ()):
             v = getattr(self, name)
             d[name] = list(v) if isinstance(v, tuple) else v
+        if self.sides is not None:
+            d["sides"] = self.sides
         return d
 
     def _shown(self) -> List[tuple]:

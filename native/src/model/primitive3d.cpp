@@ -8,6 +8,7 @@
 #include <string>
 
 #include "model/nurbs_terminal.h"
+#include "model/polygonal_solid.h"
 #include "model/prism_triangle.h"
 
 namespace csgfit {
@@ -120,6 +121,10 @@ bool is_axially_symmetric(PrimitiveKind3D kind) {
          kind == PrimitiveKind3D::Cone || kind == PrimitiveKind3D::Torus;
 }
 
+bool is_axially_symmetric(const Primitive3D& p) {
+  return is_axially_symmetric(p.kind) && !p.is_polygonal();
+}
+
 // ---------------------------------------------------------------------------------------------
 // Primitive3D
 
@@ -180,6 +185,7 @@ Primitive3D Primitive3D::nurbs(double cx, double cy, double cz, BSplineSurface s
 }
 
 double Primitive3D::volume() const {
+  if (is_polygonal()) return polygonal::volume(*this);
   const Vec3& d = dims;
   switch (kind) {
     case PrimitiveKind3D::Box: return d[0] * d[1] * d[2];
@@ -207,6 +213,7 @@ bool Primitive3D::contains(double x, double y, double z) const {
 }
 
 bool Primitive3D::contains_local(const Vec3& l) const {
+  if (is_polygonal()) return polygonal::contains(*this, l);
   const Vec3& d = dims;
   switch (kind) {
     case PrimitiveKind3D::Box:
@@ -262,6 +269,10 @@ void Primitive3D::signed_distances(const Vec3* points, std::size_t n, double* ou
 
 double Primitive3D::signed_distance_local(const Vec3& l) const {
   const Vec3& d = dims;
+  if (kind == PrimitiveKind3D::Cylinder && is_polygonal())
+    return extrusion_distance(polygonal::section_distance(sides, d[0], l[0], l[1]),
+                              std::fabs(l[2]) - d[2] / 2);
+  if (is_polygonal()) return polygonal::face_plane_distance(*this, l);
   switch (kind) {
     case PrimitiveKind3D::Box: {
       double q[3], outside = 0, inside = -kInf;
@@ -326,6 +337,7 @@ Vec3 Primitive3D::normal_at(double x, double y, double z) const {
 }
 
 Bounds3 Primitive3D::bounds() const {
+  if (is_polygonal()) return polygonal::bounds(*this);
   const Mat3 m = rotation.matrix();
   const Vec3& d = dims;
   const Vec3 c{cx, cy, cz};
@@ -440,11 +452,16 @@ void Primitive3D::normalize() {
   else
     apex = 0;
   if (kind != PrimitiveKind3D::Nurbs) patch.reset();
+  if (kind == PrimitiveKind3D::Cylinder || kind == PrimitiveKind3D::Cone)
+    sides = sides <= 0 ? 0 : std::clamp(sides, 3, kMaxSides);
+  else
+    sides = 0;
 }
 
 bool Primitive3D::operator==(const Primitive3D& o) const {
   return kind == o.kind && cx == o.cx && cy == o.cy && cz == o.cz && rotation == o.rotation &&
-         dims == o.dims && apex == o.apex && nurbs::same_patch(patch.get(), o.patch.get());
+         dims == o.dims && apex == o.apex && sides == o.sides &&
+         nurbs::same_patch(patch.get(), o.patch.get());
 }
 
 Bounds3 merged(const Bounds3& a, const Bounds3& b) {

@@ -5,6 +5,7 @@
 
 #include "csgfit/model/primitive3d.h"
 #include "model/interval.h"
+#include "model/polygonal_solid.h"
 #include "model/prism_triangle.h"
 #include "model/roots.h"
 
@@ -110,6 +111,12 @@ void torus_spans(const Vec3& d, const Vec3& u, const Vec3& b, Spans& out) {
 // Appends the s-intervals inside p.
 void line_spans(const Primitive3D& p, const Vec3& u, const Vec3& b, Spans& out) {
   const Vec3& d = p.dims;
+  if (p.is_polygonal()) {
+    Interval iv;
+    polygonal::clip_line(p, u, b, iv);
+    out.add(iv.lo, iv.hi);
+    return;
+  }
   switch (p.kind) {
     case PrimitiveKind3D::Nurbs: return;  // rasterize_by_centres
     case PrimitiveKind3D::Box: {

@@ -146,7 +146,10 @@ std::vector<SharedDimension> shared_dimensions(const Node3D& tree) {
   std::vector<SharedDimension> out;
   Names names;
   for (auto& g : equal_groups<double>(ls, {DimensionField::Radius}, [](const Primitive3D& p, auto) {
-         const bool round = p.kind == PrimitiveKind3D::Cylinder || p.kind == PrimitiveKind3D::Sphere;
+         // A polygon's circumradius is not a circle's radius (nor drawn as one: no fn_r).
+         const bool round =
+             (p.kind == PrimitiveKind3D::Cylinder || p.kind == PrimitiveKind3D::Sphere) &&
+             !p.is_polygonal();
          return round ? std::optional<double>(p.dims[0]) : std::nullopt;
        })) {
     const char* base = all(g, sphere) ? "sphere_r" : !all(g, cylinder) ? "round_r"

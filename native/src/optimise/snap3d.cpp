@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "csgfit/model/quaternion.h"
 #include "refine/moves3d.h"
@@ -15,6 +16,34 @@ namespace {
 // Kinds with one radius (dims[0]) that designers repeat: drills, bosses, balls.
 bool is_round(PrimitiveKind3D k) {
   return k == PrimitiveKind3D::Cylinder || k == PrimitiveKind3D::Sphere;
+}
+
+// The rotation taking local z to the nearest signed model axis when the axis lies within `tol`
+// (a cosine) of it: a cone's direction matters (r1 at the bottom), so the sign is kept.
+std::optional<Quaternion> axis_snapped(const Mat3& r, double tol) {
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::fabs(r[a][2]) > std::fabs(r[axis][2])) axis = a;
+  if (std::fabs(r[axis][2]) < tol) return std::nullopt;
+  const double sign = r[axis][2] > 0 ? 1.0 : -1.0;
+  if (axis == 2) return sign > 0 ? Quaternion{} : Quaternion::from_axis_angle(1, 0, 0, 180);
+  if (axis == 0) return Quaternion::from_axis_angle(0, 1, 0, 90 * sign);
+  return Quaternion::from_axis_angle(1, 0, 0, -90 * sign);
+}
+
+// A polygon's turn about its axis is its phase: `axis` (the snapped axis's rotation) turned
+// about its z as far as p's local x is turned from axis's x, modulo the polygon's symmetry
+// (360 / sides degrees) and rounded to a multiple of 15 degrees within `within` of one.
+Quaternion with_phase(const Primitive3D& p, const Quaternion& axis, double within) {
+  const Mat3 a = axis.matrix(), r = p.rotation.matrix();
+  double x = 0, y = 0;
+  for (int i = 0; i < 3; ++i) x += a[i][0] * r[i][0], y += a[i][1] * r[i][0];
+  const double period = 360.0 / p.sides;
+  double phase = std::atan2(y, x) * kRadToDeg;
+  phase -= period * std::round(phase / period);
+  const double design = 15 * std::round(phase / 15);
+  if (std::fabs(phase - design) <= within) phase = design;
+  return axis * Quaternion::from_axis_angle(0, 0, 1, phase);
 }
 
 }  // namespace
@@ -32,23 +61,18 @@ std::size_t snap_to_design_values(TreeEvaluator3D& ev, double voxel_slack) {
     ++kept;
     return true;
   };
-  const double tol = std::cos(4.0 / kRadToDeg);
+  const double tol_degrees = 4.0, tol = std::cos(tol_degrees / kRadToDeg);
   for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
     const Primitive3D& p = ev.leaf(i);
     if (p.kind == PrimitiveKind3D::Sphere || p.rotation.is_identity()) continue;
     const Mat3 r = p.rotation.matrix();
     Primitive3D snapped = p;
     if (is_axially_symmetric(p.kind)) {
-      // Only the axis (local z, column 2) matters: point it along the nearest model axis.
-      int axis = 0;
-      for (int a = 1; a < 3; ++a)
-        if (std::fabs(r[a][2]) > std::fabs(r[axis][2])) axis = a;
-      if (std::fabs(r[axis][2]) < tol) continue;
-      const double sign = r[axis][2] > 0 ? 1.0 : -1.0;
-      // A cone's direction matters (r1 at the bottom): keep the sign.
-      if (axis == 2) snapped.rotation = sign > 0 ? Quaternion{} : Quaternion::from_axis_angle(1, 0, 0, 180);
-      else if (axis == 0) snapped.rotation = Quaternion::from_axis_angle(0, 1, 0, 90 * sign);
-      else snapped.rotation = Quaternion::from_axis_angle(1, 0, 0, -90 * sign);
+      // The axis (local z, column 2) along the nearest model axis; only a polygon's turn about
+      // it matters besides.
+      const std::optional<Quaternion> axis = axis_snapped(r, tol);
+      if (!axis) continue;
+      snapped.rotation = p.is_polygonal() ? with_phase(p, *axis, tol_degrees) : *axis;
     } else {
       // Every local axis near a signed model axis: round the matrix to that permutation.
       Mat3 m{};
@@ -72,7 +96,8 @@ std::size_t snap_to_design_values(TreeEvaluator3D& ev, double voxel_slack) {
     if (!is_round(p.kind)) continue;
     for (std::size_t j = 0; j < i; ++j) {
       const Primitive3D& q = ev.leaf(j);
-      if (!is_round(q.kind)) continue;
+      // A polygon's circumradius is not a circle's radius, nor a polygon's of other sides.
+      if (!is_round(q.kind) || q.sides != p.sides) continue;
       const double a = p.dims[0], b = q.dims[0];
       if (!(std::fabs(a - b) <= 0.02 * std::max(a, b)) || a == b) continue;
       Primitive3D snapped = p;

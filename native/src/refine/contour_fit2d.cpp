@@ -64,7 +64,7 @@ std::size_t refine_to_contour(TreeEvaluator& ev, const std::vector<ContourPoint>
     for (std::size_t i = 0; i < n; ++i) {
       if (std::chrono::steady_clock::now() >= options.deadline) return changed;
       Moves2D::Param params[Moves2D::kMaxParams];
-      const int np = Moves2D::params_of(ev.leaf(i).kind, LocalOptOptions{}, params);
+      const int np = Moves2D::params_of(ev.leaf(i), LocalOptOptions{}, params);
       if (assigned[i].size() < static_cast<std::size_t>(3 * np)) continue;
       const Primitive refined = least_squares::fit_to_points(Moves2D{}, ev.leaf(i), assigned[i],
                                                              1.0, options.iterations, residual);

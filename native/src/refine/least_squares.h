@@ -47,7 +47,7 @@ template <typename Moves, typename Prim, typename Point, typename Residual>
 Prim fit_to_points(const Moves& moves, const Prim& start, const std::vector<const Point*>& pts,
                    double unit, int iterations, Residual residual) {
   typename Moves::Param params[Moves::kMaxParams];
-  const int np = moves.params_of(start.kind, LocalOptOptions{}, params);
+  const int np = moves.params_of(start, LocalOptOptions{}, params);
   const std::size_t m = pts.size();
   auto sum_squares = [&](const Prim& p) {
     double s = 0;

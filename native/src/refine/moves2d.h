@@ -19,8 +19,9 @@ struct Moves2D {
   /// Steps are in pixels.
   double unit = 1.0;
 
-  // The parameters worth moving for a kind (a circle has one size and no orientation).
-  static int params_of(PrimitiveKind kind, const LocalOptOptions& o, Param out[kMaxParams]) {
+  // The parameters worth moving for a primitive (a circle has one size and no orientation).
+  static int params_of(const Primitive& p, const LocalOptOptions& o, Param out[kMaxParams]) {
+    const PrimitiveKind kind = p.kind;
     int n = 0;
     out[n++] = Param::X;
     out[n++] = Param::Y;

@@ -24,8 +24,9 @@ struct Moves3D {
   /// there by growing (its opposite moves too) or by shifting.
   bool box_faces = false;
 
-  // The parameters worth moving for a kind.
-  int params_of(PrimitiveKind3D kind, const LocalOptOptions& o, Param out[kMaxParams]) const {
+  // The parameters worth moving for a primitive.
+  int params_of(const Primitive3D& p, const LocalOptOptions& o, Param out[kMaxParams]) const {
+    const PrimitiveKind3D kind = p.kind;
     int n = 0;
     for (Param position : {Param::X, Param::Y, Param::Z}) out[n++] = position;
     if (o.move_sizes && box_faces && kind == PrimitiveKind3D::Box) {
@@ -39,8 +40,9 @@ struct Moves3D {
     if (o.move_orientation && kind != PrimitiveKind3D::Sphere) {
       out[n++] = Param::TurnX;
       out[n++] = Param::TurnY;
-      // A turn about its own axis leaves a cylinder, cone or torus as it is.
-      if (!is_axially_symmetric(kind)) out[n++] = Param::TurnZ;
+      // A turn about its own axis leaves a round cylinder, cone or torus as it is (a
+      // polygon's is its phase).
+      if (!is_axially_symmetric(p)) out[n++] = Param::TurnZ;
       if (kind == PrimitiveKind3D::TriangularPrism) out[n++] = Param::Apex;
     }
     return n;

@@ -32,7 +32,7 @@ std::size_t pattern_search(Evaluator& ev, const LocalOptOptions& options,
       active = true;
       const std::size_t leaf = leaf_indices[li];
       typename Moves::Param params[Moves::kMaxParams];
-      const int np = moves.params_of(ev.leaf(leaf).kind, options, params);
+      const int np = moves.params_of(ev.leaf(leaf), options, params);
       bool improved = false;
       for (int pi = 0; pi < np; ++pi) {
         for (double dir : {1.0, -1.0}) {

@@ -70,7 +70,7 @@ std::size_t refine_to_surface(TreeEvaluator3D& ev, const std::vector<Vec3>& samp
     for (std::size_t i = 0; i < n; ++i) {
       if (std::chrono::steady_clock::now() >= options.deadline) return changed;
       Param params[Moves3D::kMaxParams];
-      const int np = Moves3D{}.params_of(ev.leaf(i).kind, LocalOptOptions{}, params);
+      const int np = Moves3D{}.params_of(ev.leaf(i), LocalOptOptions{}, params);
       if (assigned[i].size() < static_cast<std::size_t>(3 * np)) continue;
       const Primitive3D refined = least_squares::fit_to_points(
           Moves3D{voxel}, ev.leaf(i), assigned[i], voxel, options.iterations,

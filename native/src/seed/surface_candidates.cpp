@@ -148,7 +148,7 @@ std::vector<SignedPrimitive> surface_proposals(const SurfaceReading& reading,
 
 bool alike(const SignedPrimitive& a, const SignedPrimitive& b, double near) {
   const Primitive3D &p = a.primitive, &q = b.primitive;
-  if (p.kind != q.kind || a.positive != b.positive) return false;
+  if (p.kind != q.kind || p.sides != q.sides || a.positive != b.positive) return false;
   if (norm(Vec3{p.cx - q.cx, p.cy - q.cy, p.cz - q.cz}) > near) return false;
   for (int i = 0; i < 3; ++i)
     if (std::abs(p.dims[i] - q.dims[i]) > near) return false;

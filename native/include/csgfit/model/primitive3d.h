@@ -45,6 +45,12 @@ bool clip_ray(const Bounds3& box, const Vec3& o, const Vec3& d, double& t0, doub
 ///  - Cylinder:  dims = {r, r, height}; axis local z, z in [-h/2, h/2] (dims[1] kept = dims[0]).
 ///  - Cone:      dims = {r1, r2, height}: a frustum with radius r1 at z = -h/2 (bottom) and r2
 ///               at z = +h/2 (top), axis local z; r1 or r2 may be 0 (a full cone).
+///  - Cylinder and Cone with `sides` >= 3: the cross-section is the regular `sides`-gon inscribed
+///               in the circle of that radius (r is the circumradius), vertex 0 on local +x and
+///               vertex i at 360 i / sides degrees counter-clockwise about local z: OpenSCAD's
+///               cylinder(h, r1, r2, $fn = sides) in the local frame. A Cone is then the frustum
+///               of a regular pyramid, both end polygons with their vertices at the same angles.
+///               The turn about local z is the polygon's phase and matters.
 ///  - Ellipsoid: dims = {rx, ry, rz}, semi-axes along local x, y, z.
 ///  - Torus:     dims = {R, r, 0}: the tube of radius r around the circle of radius R in the
 ///               local xy plane (axis local z), r <= R so that OpenSCAD can revolve it.
@@ -62,6 +68,10 @@ struct Primitive3D {
   Quaternion rotation;
   Vec3 dims{1, 1, 1};
   double apex = 0;  ///< TriangularPrism only
+  /// Cylinder and Cone only: 0 for the round solid, else the number of sides of the regular
+  /// polygon that is its cross-section (3 .. kMaxSides); normalize() sets 0 for other kinds.
+  int sides = 0;
+  static constexpr int kMaxSides = 1000;
   /// Nurbs only: the patch in local coordinates, shared by copies (a search copies trees
   /// often; a mutation builds a new patch rather than editing one in place).
   std::shared_ptr<const BSplineSurface> patch;
@@ -94,7 +104,11 @@ struct Primitive3D {
   /// Signed Euclidean distance to the surface, negative inside. Exact for every kind except
   /// the ellipsoid, where it is |q|(|q| - 1)/|q'| with q = local / semi-axes and
   /// q' = local / semi-axes^2: zero exactly on the surface, the right sign everywhere, exact
-  /// for a sphere and first-order accurate near the surface.
+  /// for a sphere and first-order accurate near the surface; and the polygonal Cone (a
+  /// pyramid frustum), where it is the largest signed distance to the planes of its faces:
+  /// exact inside and wherever the nearest point is inside a face, an underestimate where it is
+  /// an edge or a corner (a polygonal Cylinder is exact: the polygon's 2D distance combined
+  /// with the z slab as an extrusion's).
   double signed_distance(double x, double y, double z) const;
   /// signed_distance at each of `n` points, into `out` (the rotation applied once).
   void signed_distances(const Vec3* points, std::size_t n, double* out) const;
@@ -108,8 +122,13 @@ struct Primitive3D {
   double signed_distance_local(const Vec3& local) const;
   /// Tight axis-aligned bounds of the rotated solid.
   Bounds3 bounds() const;
-  /// Keeps sizes positive, tied sizes equal, r <= R for tori, the quaternion unit; called after
-  /// every parameter change.
+  /// Whether the cross-section is a regular polygon (a Cylinder or Cone with sides >= 3).
+  bool is_polygonal() const {
+    return sides > 0 && (kind == PrimitiveKind3D::Cylinder || kind == PrimitiveKind3D::Cone);
+  }
+  /// Keeps sizes positive, tied sizes equal, r <= R for tori, the quaternion unit, sides 0 or
+  /// in [3, kMaxSides] for Cylinder and Cone and 0 for the other kinds; called after every
+  /// parameter change.
   void normalize();
   bool operator==(const Primitive3D& o) const;
   bool operator!=(const Primitive3D& o) const { return !(*this == o); }
@@ -136,13 +155,17 @@ PrimitiveSet3D analytic_kinds(PrimitiveSet3D set);
 /// Indices into Primitive3D::dims that are free parameters of the kind (a sphere has one, a
 /// cylinder two: {0, 2}, a torus two: {0, 1}); returns how many were written.
 int free_dims(PrimitiveKind3D kind, int out[3]);
-/// Whether turning the primitive about its local z axis leaves it unchanged (cylinder, cone,
-/// torus, sphere).
+/// Whether turning a primitive of this kind about its local z axis leaves it unchanged when it
+/// is round (cylinder, cone, torus, sphere).
 bool is_axially_symmetric(PrimitiveKind3D kind);
+/// Whether turning this primitive about its local z axis leaves it unchanged: its kind is, and
+/// it is not polygonal (a polygon's turn about its axis is its phase).
+bool is_axially_symmetric(const Primitive3D& p);
 
 /// Scan-converts p into `out`: a voxel is set exactly when its centre lies inside p. Clears
 /// `out` first. Works per x-row (j, k) inside p's bounds, from the analytic x-interval(s) of
-/// p on that line (one for convex kinds, up to two for the torus).
+/// p on that line (one for convex kinds, up to two for the torus; a polygonal Cylinder or Cone
+/// is the intersection of the half-spaces of its faces).
 void rasterize(const Primitive3D& p, VoxelGrid& out);
 /// Where the line o + t d (d of unit length) lies inside p: up to four sorted, disjoint
 /// t-intervals [lo[i], hi[i]], solved exactly for the analytic kinds (as rasterize does a row)

@@ -42,7 +42,8 @@ struct LocalOptOptions {
 /// (and is then repeated with a doubled step), and a primitive whose sweep found nothing halves
 /// its step. 2D moves the centre, width, height, angle and a triangle's apex; 3D the centre
 /// along x, y, z, each free dimension, small turns about the primitive's own axes (two for
-/// axially symmetric kinds, none for spheres) and a prism's apex. Returns accepted moves.
+/// axially symmetric primitives, three for a polygonal cylinder or cone, none for spheres) and
+/// a prism's apex. Returns accepted moves.
 std::size_t optimize_leaves(TreeEvaluator& evaluator, const LocalOptOptions& options,
                             std::vector<std::size_t> leaf_indices = {});
 std::size_t optimize_leaves(TreeEvaluator3D& evaluator, const LocalOptOptions& options,

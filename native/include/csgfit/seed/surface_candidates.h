@@ -50,8 +50,8 @@ std::vector<SignedPrimitive> surface_proposals(const SurfaceReading& reading,
                                                const std::vector<Vec3>& points,
                                                const PrimitiveSet3D& kinds);
 
-/// Whether two signed primitives are one: same kind and sign, centre, sizes and axes within
-/// `near`.
+/// Whether two signed primitives are one: same kind, sides and sign, centre, sizes and axes
+/// (all three: a polygon's turn about its axis counts) within `near`.
 bool alike(const SignedPrimitive& a, const SignedPrimitive& b, double near);
 
 /// Adds to `pool` the primitives of `more` that are not already in it (alike within 1 % of

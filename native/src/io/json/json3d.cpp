@@ -54,6 +54,7 @@ ojson node3d_to_json(const Node3D& n, const std::string& where) {
       break;
     case PrimitiveKind3D::Nurbs: json_detail::write_nurbs_fields(p, where, j); break;
   }
+  if (p.is_polygonal()) j["sides"] = p.sides;
   return j;
 }
 
@@ -61,6 +62,18 @@ ojson node3d_to_json(const Node3D& n, const std::string& where) {
 
 double number(const ojson& j, const char* key, const std::string& where) {
   return json_detail::finite_number(j, key, where, kNotFinite3D);
+}
+
+// A polygonal cylinder's or cone's "sides": absent (round), or an integer in [3, kMaxSides].
+int sides(const ojson& j, const Primitive3D& p, const std::string& where) {
+  const auto it = j.find("sides");
+  if (it == j.end()) return 0;
+  if (p.kind != PrimitiveKind3D::Cylinder && p.kind != PrimitiveKind3D::Cone)
+    fail(where, "'sides' is for cylinders and cones only");
+  if (!it->is_number_integer() || it->get<long long>() < 3 ||
+      it->get<long long>() > Primitive3D::kMaxSides)
+    fail(where, "'sides' must be an integer from 3 to " + std::to_string(Primitive3D::kMaxSides));
+  return it->get<int>();
 }
 
 template <std::size_t N>
@@ -140,6 +153,7 @@ Node3D node3d_from_json(const ojson& j, const std::string& where, int depth) {
       break;
     case PrimitiveKind3D::Nurbs: json_detail::read_nurbs_fields(j, where, p); break;
   }
+  p.sides = sides(j, p, where);
   for (double v : p.dims)
     if (v < 0 || (v == 0 && !(p.kind == PrimitiveKind3D::Cone || p.kind == PrimitiveKind3D::Torus)))
       fail(where, std::string(to_string(p.kind)) + " sizes must be > 0");
