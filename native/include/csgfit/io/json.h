@@ -55,6 +55,10 @@ Node flip_y(const Node& tree, double height);
 std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
                       const Quaternion& frame = {});
 
+/// The "sweeps" block to_json3d writes for `tree`, on its own: a JSON array, empty when the
+/// tree has no sweep (for readers of trees that came without one, such as csgfit.find_sweeps).
+std::string to_json_sweeps(const Node3D& tree);
+
 /// A range fit as JSON: the 3D document's "schema", "dimension", "units", "source", "tree" and
 /// "stats" (no grid: the input was points), with "sources" (every view), "views" (each view's
 /// silhouette_iou and depth_error as its sensor sees the tree), "precedence_graph" (seed 002:

@@ -230,6 +230,10 @@ std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const st
   return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
 }
 
+std::string to_json_sweeps(const Node3D& tree) {
+  return json_detail::sweeps_to_json(tree).dump(-1, ' ', false, ojson::error_handler_t::replace);
+}
+
 namespace {
 
 ojson graph_to_json(const PrecedenceGraph& g) {
