@@ -63,6 +63,27 @@ def _same_sizes(kind: str, leaf: Dict[str, Any], s: Dict[str, Any]) -> bool:
     return bool(xs) and near(max(xs), max(leaf.get("r1", 0.0), leaf.get("r2", 0.0)))
 
 
+def _same_place(kind: str, leaf: Dict[str, Any], s: Dict[str, Any], frame) -> bool:
+    """Whether the section is where the leaf is: at its centre in the sweep's plane, or (a
+    revolution's) at its height along the axis."""
+    try:
+        at = frame.inverse().multVec(App.Vector(*_vector(leaf, "center", 3, "leaf")))
+    except BuildError:
+        return False
+    tolerance = 1e-9 * (1 + max(abs(at.x), abs(at.y), abs(at.z)))
+
+    def near(a, b):
+        return isinstance(a, (int, float)) and not isinstance(a, bool) and \
+            math.isclose(a, b, rel_tol=0, abs_tol=tolerance)
+
+    if kind == LINEAR:
+        return near(s.get("cx"), at.x) and near(s.get("cy"), at.y)
+    if s.get("type") == "polygon":
+        ys = [p[1] for p in s.get("points") or [] if isinstance(p, list) and len(p) > 1]
+        return bool(ys) and near((min(ys) + max(ys)) / 2, at.z)
+    return near(s.get("cy"), at.z)
+
+
 def _preorder(tree: Any) -> List[Tuple[Any, int, int]]:
     """(node, its first leaf's index, its number of leaves) for every node, in pre-order."""
     out: List[Tuple[Any, int, int]] = []
@@ -90,8 +111,9 @@ def node_count(d: Any) -> int:
 
 def sweeps_by_node(sweeps: Any, tree: Any) -> Dict[int, Dict[str, Any]]:
     """The document's sweeps keyed by the pre-order index of their node. Raises BuildError on a
-    sweep that does not describe the tree (its node, leaves, sections or sizes differ): the
-    block is derived from the tree when written, so a tree edited by hand must lose it."""
+    sweep that does not describe the tree (its node, leaves, sections, their sizes or places
+    differ): the block is derived from the tree when written, so a tree edited by hand must
+    lose it (or get it again from csgfit.find_sweeps)."""
     if sweeps is None:
         return {}
     if not isinstance(sweeps, list):
@@ -107,16 +129,16 @@ def sweeps_by_node(sweeps: Any, tree: Any) -> Dict[int, Dict[str, Any]]:
         if not isinstance(node, int) or isinstance(node, bool) or not 0 <= node < len(nodes) \
                 or "op" not in nodes[node][0]:
             raise BuildError(f"{where}: 'node' must be the index of an operator of the tree")
-        _vector(sweep, "center", 3, where)
-        rotation3d(sweep, where)
+        frame = App.Placement(App.Vector(*_vector(sweep, "center", 3, where)),
+                              rotation3d(sweep, where))
         if sweep["kind"] == LINEAR:
             _number(sweep, "height", where, positive=True)
-        _check_sections(sweep, leaves, nodes[node][1], nodes[node][2], where)
+        _check_sections(sweep, frame, leaves, nodes[node][1], nodes[node][2], where)
         out[node] = sweep
     return out
 
 
-def _check_sections(sweep, leaves, first, count, where):
+def _check_sections(sweep, frame, leaves, first, count, where):
     sections = sweep.get("sections")
     if not isinstance(sections, list) or len(sections) != count:
         raise BuildError(f"{where}: 'sections' must have one section per leaf of its node")
@@ -124,7 +146,8 @@ def _check_sections(sweep, leaves, first, count, where):
         leaf = leaves[first + k]
         expected = _SECTION.get((sweep["kind"], leaf.get("type") if isinstance(leaf, dict) else None))
         if expected is None or not isinstance(s, dict) or s.get("leaf") != first + k \
-                or s.get("type") != expected or not _same_sizes(sweep["kind"], leaf, s):
+                or s.get("type") != expected or not _same_sizes(sweep["kind"], leaf, s) \
+                or not _same_place(sweep["kind"], leaf, s, frame):
             raise BuildError(f"{where}.sections[{k}] does not describe leaf {first + k} of the "
                              "tree (the tree was edited after csgfit wrote it: drop 'sweeps')")
 

@@ -165,11 +165,14 @@ def test_sweeps_that_do_not_describe_the_tree_are_refused(doc):
     good = document(copy.deepcopy(PLATE))
     edited = copy.deepcopy(good)
     edited["tree"]["children"][1]["r"] = 3.5  # a hole widened by hand, its sweep left as it was
+    moved = copy.deepcopy(good)
+    moved["tree"]["children"][3]["center"][0] += 1  # the hexagonal hole moved
     bad_node = copy.deepcopy(good)
     bad_node["sweeps"][0]["node"] = 1  # a leaf
     bad_count = copy.deepcopy(good)
     del bad_count["sweeps"][0]["sections"][3]
-    for bad, match in ((edited, "does not describe leaf 1"), (bad_node, "operator"),
+    for bad, match in ((edited, "does not describe leaf 1"),
+                       (moved, "does not describe leaf 3"), (bad_node, "operator"),
                        (bad_count, "one section per leaf")):
         with pytest.raises(builder.BuildError, match=match):
             builder.build(doc, bad)
