@@ -245,7 +245,7 @@ def find_sweeps(tree) -> List[dict]:
     Part::Extrusion / Part::Revolution. Returned as the "sweeps" block of a 3D document
     (docs/JSON_SCHEMA.md: each sweep's node, kind, frame, height and leaf sections); [] when
     there is none. tree: a Node or Primitive3D, or a 3D JSON tree (dict)."""
-    from . import _csgfit
+    from . import _csgfit  # the tree's value types above need no native module; this does
 
     d = tree.to_dict() if hasattr(tree, "to_dict") else tree
     document = {"schema": "csgfit/1", "dimension": 3, "units": "mm", "tree": d}
