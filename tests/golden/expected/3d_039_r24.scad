@@ -99,21 +99,21 @@ box_10_size_x = 1.8908; // [0:10:50000]
 box_10_size_y = 1.6262; // [0:10:50000]
 box_10_size_z = 2.2981; // [0:10:50000]
 
+/* [Extrusion 1] */
+extrude_1_y = 3.646; // [-50000:10:50000]
+extrude_1_rot_x = 90; // [-180:0.1:180]
+extrude_1_h = 0.6708; // [0:10:50000]
+
 /* [Box 11] */
 box_11_cx = 0; // [-50000:10:50000]
-box_11_cy = 3.3106; // [-50000:10:50000]
-box_11_cz = -0.1988; // [-50000:10:50000]
+box_11_cy = -0.1988; // [-50000:10:50000]
 box_11_size_x = 7.4161; // [0:10:50000]
-box_11_size_y = 0.6708; // [0:10:50000]
 box_11_size_z = 3.5404; // [0:10:50000]
 
 /* [Cylinder 12] */
 cyl_12_cx = 0; // [-50000:10:50000]
-cyl_12_cy = 2.6913; // [-50000:10:50000]
-cyl_12_cz = 1.5715; // [-50000:10:50000]
-cyl_12_rot_x = 90; // [-180:0.1:180]
+cyl_12_cy = 1.5715; // [-50000:10:50000]
 cyl_12_r = 1.9659; // [0:10:50000]
-cyl_12_h = 9.5776; // [0:10:50000]
 
 /* [Cone 13] */
 cone_13_cx = 0; // [-50000:10:50000]
@@ -221,10 +221,11 @@ module csg_high_res() {
       translate([box_8_cx, box_8_cy, box_8_cz]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
       translate([box_9_cx, box_9_cy, box_9_cz]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
       translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
-      difference() {
-        translate([box_11_cx, box_11_cy, box_11_cz]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
-        translate([cyl_12_cx, cyl_12_cy, cyl_12_cz]) rotate([cyl_12_rot_x, 0, 0]) cylinder(h = cyl_12_h, r = fn_r(cyl_12_r), center = true);
-      }
+      translate([0, extrude_1_y, 0]) rotate([extrude_1_rot_x, 0, 0]) linear_extrude(height = extrude_1_h)
+        difference() {
+          translate([box_11_cx, box_11_cy]) square([box_11_size_x, box_11_size_z], center = true);
+          translate([cyl_12_cx, cyl_12_cy]) circle(r = fn_r(cyl_12_r));
+        }
       intersection() {
         translate([cone_13_cx, cone_13_cy, cone_13_cz]) rotate([cone_13_rot_x, 0, 0]) cylinder(h = cone_13_h, r1 = fn_r(cone_13_r1), r2 = fn_r(cone_13_r2), center = true);
         translate([box_14_cx, box_14_cy, box_14_cz]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);

@@ -238,21 +238,20 @@ cyl_22_rot_y = 105.002894; // [-180:0.1:180]
 cyl_22_r = 0.1759; // [0:0.01:50]
 cyl_22_h = 11.5507; // [0:0.01:50]
 
+/* [Extrusion 1] */
+extrude_1_y = 1.0135; // [-50:0.01:50]
+extrude_1_rot_x = 90; // [-180:0.1:180]
+extrude_1_h = 0.6757; // [0:0.01:50]
+
 /* [Box 23] */
 box_23_cx = 0; // [-50:0.01:50]
-box_23_cy = 0.6757; // [-50:0.01:50]
-box_23_cz = -2.0905; // [-50:0.01:50]
+box_23_cy = -2.0905; // [-50:0.01:50]
 box_23_size_x = 5.6757; // [0:0.01:50]
-box_23_size_y = 0.6757; // [0:0.01:50]
 box_23_size_z = 1.3676; // [0:0.01:50]
 
 /* [Cylinder 24] */
 cyl_24_cx = -2.0947; // [-50:0.01:50]
-cyl_24_cy = 0; // [-50:0.01:50]
-cyl_24_cz = -1.2041; // [-50:0.01:50]
-cyl_24_rot_x = 89.999944; // [-180:0.1:180]
-cyl_24_rot_y = 60.003715; // [-180:0.1:180]
-cyl_24_h = 2.027; // [0:0.01:50]
+cyl_24_cy = -1.2041; // [-50:0.01:50]
 
 /* [Box 25] */
 box_25_cx = -1.7983; // [-50:0.01:50]
@@ -381,22 +380,21 @@ box_38_size_x = 7.3978; // [0:0.01:50]
 box_38_size_y = 1.5611; // [0:0.01:50]
 box_38_size_z = 1.1727; // [0:0.01:50]
 
+/* [Extrusion 2] */
+extrude_2_y = 0.3378; // [-50:0.01:50]
+extrude_2_rot_x = 90; // [-180:0.1:180]
+extrude_2_h = 1.5611; // [0:0.01:50]
+
 /* [Box 39] */
 box_39_cx = 1.5367; // [-50:0.01:50]
-box_39_cy = -0.4427; // [-50:0.01:50]
-box_39_cz = -2.3984; // [-50:0.01:50]
+box_39_cy = -2.3984; // [-50:0.01:50]
 box_39_size_x = 7.3978; // [0:0.01:50]
-box_39_size_y = 1.5611; // [0:0.01:50]
 box_39_size_z = 1.1727; // [0:0.01:50]
 
 /* [Cylinder 40] */
 cyl_40_cx = 2.1284; // [-50:0.01:50]
-cyl_40_cy = 0; // [-50:0.01:50]
-cyl_40_cz = -3.2497; // [-50:0.01:50]
-cyl_40_rot_x = -90; // [-180:0.1:180]
-cyl_40_rot_y = -153.434949; // [-180:0.1:180]
+cyl_40_cy = -3.2497; // [-50:0.01:50]
 cyl_40_r = 2.7891; // [0:0.01:50]
-cyl_40_h = 2.4466; // [0:0.01:50]
 
 /* [Box 41] */
 box_41_cx = 1.2859; // [-50:0.01:50]
@@ -961,10 +959,11 @@ module csg_high_res() {
           translate([cyl_21_cx, cyl_21_cy, cyl_21_cz]) rotate([cyl_21_rot_x, cyl_21_rot_y, 0]) cylinder(h = hole_h, r = fn_r(hole_r), center = true);
           translate([cyl_22_cx, cyl_22_cy, cyl_22_cz]) rotate([0, cyl_22_rot_y, 0]) cylinder(h = cyl_22_h, r = fn_r(cyl_22_r), center = true);
         }
-        difference() {
-          translate([box_23_cx, box_23_cy, box_23_cz]) cube([box_23_size_x, box_23_size_y, box_23_size_z], center = true);
-          translate([cyl_24_cx, cyl_24_cy, cyl_24_cz]) rotate([cyl_24_rot_x, cyl_24_rot_y, 0]) cylinder(h = cyl_24_h, r = fn_r(hole_r3), center = true);
-        }
+        translate([0, extrude_1_y, 0]) rotate([extrude_1_rot_x, 0, 0]) linear_extrude(height = extrude_1_h)
+          difference() {
+            translate([box_23_cx, box_23_cy]) square([box_23_size_x, box_23_size_z], center = true);
+            translate([cyl_24_cx, cyl_24_cy]) circle(r = fn_r(hole_r3));
+          }
         difference() {
           intersection() {
             translate([box_25_cx, box_25_cy, box_25_cz]) rotate([box_25_rot_x, box_25_rot_y, box_25_rot_z]) cube([box_25_size_x, box_25_size_y, box_25_size_z], center = true);
@@ -995,10 +994,11 @@ module csg_high_res() {
       translate([box_37_cx, box_37_cy, box_37_cz]) rotate([box_37_rot_x, box_37_rot_y, box_37_rot_z]) cube([box_37_size_x, box_37_size_y, box_37_size_z], center = true);
       translate([box_38_cx, box_38_cy, box_38_cz]) cube([box_38_size_x, box_38_size_y, box_38_size_z], center = true);
     }
-    difference() {
-      translate([box_39_cx, box_39_cy, box_39_cz]) cube([box_39_size_x, box_39_size_y, box_39_size_z], center = true);
-      translate([cyl_40_cx, cyl_40_cy, cyl_40_cz]) rotate([cyl_40_rot_x, cyl_40_rot_y, 0]) cylinder(h = cyl_40_h, r = fn_r(cyl_40_r), center = true);
-    }
+    translate([0, extrude_2_y, 0]) rotate([extrude_2_rot_x, 0, 0]) linear_extrude(height = extrude_2_h)
+      difference() {
+        translate([box_39_cx, box_39_cy]) square([box_39_size_x, box_39_size_z], center = true);
+        translate([cyl_40_cx, cyl_40_cy]) circle(r = fn_r(cyl_40_r));
+      }
     intersection() {
       translate([box_41_cx, box_41_cy, box_41_cz]) rotate([box_41_rot_x, box_41_rot_y, box_41_rot_z]) cube([box_41_size_x, box_41_size_y, box_41_size_z], center = true);
       translate([box_42_cx, box_42_cy, box_42_cz]) cube([box_42_size_x, box_42_size_y, box_42_size_z], center = true);

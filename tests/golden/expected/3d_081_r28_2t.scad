@@ -11,11 +11,11 @@ segments = 64; // [12:1:360]
 hole_r = 0.2696; // [0:0.01:50]
 // radius of cylinders 6 and 43
 hole_r2 = 0.2696; // [0:0.01:50]
-// height of cylinders 5, 10 and 42
+// height of cylinders 5 and 42
 hole_h = 3.5259; // [0:0.01:50]
 // height of cylinders 6 and 43
 hole_h2 = 3.5259; // [0:0.01:50]
-// height of cylinders 13, 21, 22 and 58
+// height of cylinders 21, 22 and 58
 cyl_h = 3.5259; // [0:0.01:50]
 // height of cylinders 57 and 59
 hole_h3 = 3.5259; // [0:0.01:50]
@@ -26,40 +26,40 @@ hole_h4 = 4.0939; // [0:0.01:50]
 // height of cylinders 126 and 127
 hole_h5 = 4.0939; // [0:0.01:50]
 
+/* [Extrusion 1] */
+extrude_1_y = 2.9706; // [-50:0.01:50]
+extrude_1_rot_x = 90; // [-180:0.1:180]
+extrude_1_h = 5.9397; // [0:0.01:50]
+
 /* [Box 1] */
 box_1_cx = -0.0007; // [-50:0.01:50]
-box_1_cy = 0; // [-50:0.01:50]
-box_1_cz = -1.7007; // [-50:0.01:50]
-box_1_rot_x = -90; // [-180:0.1:180]
-box_1_rot_y = -89.977516; // [-180:0.1:180]
-box_1_size_x = 6.6; // [0:0.01:50]
+box_1_cy = -1.7007; // [-50:0.01:50]
+box_1_angle = -0.022484; // [-180:0.1:180]
 box_1_size_y = 3.53; // [0:0.01:50]
-box_1_size_z = 5.9412; // [0:0.01:50]
+box_1_size_x = 6.6; // [0:0.01:50]
 
 /* [Box 2] */
 box_2_cx = 1.4928; // [-50:0.01:50]
-box_2_cy = 0.0008; // [-50:0.01:50]
-box_2_cz = -1.7; // [-50:0.01:50]
+box_2_cy = -1.7; // [-50:0.01:50]
 box_2_size_x = 0.5403; // [0:0.01:50]
-box_2_size_y = 5.9397; // [0:0.01:50]
 box_2_size_z = 6.6; // [0:0.01:50]
 
+/* [Extrusion 2] */
+extrude_2_x = 1.2227; // [-50:0.01:50]
+extrude_2_rot_x = 90; // [-180:0.1:180]
+extrude_2_rot_z = 90; // [-180:0.1:180]
+extrude_2_h = 0.5403; // [0:0.01:50]
+
 /* [Box 3] */
-box_3_cx = 0; // [-50:0.01:50]
-box_3_cy = -0.8848; // [-50:0.01:50]
-box_3_cz = -0.5309; // [-50:0.01:50]
-box_3_rot_x = 180; // [-180:0.1:180]
-box_3_rot_y = -37.538926; // [-180:0.1:180]
-box_3_rot_z = 90; // [-180:0.1:180]
+box_3_cx = -0.8848; // [-50:0.01:50]
+box_3_cy = -0.5309; // [-50:0.01:50]
+box_3_angle = 37.538926; // [-180:0.1:180]
 box_3_size_x = 8.7539; // [0:0.01:50]
-box_3_size_y = 3.5259; // [0:0.01:50]
 box_3_size_z = 11.7856; // [0:0.01:50]
 
 /* [Box 4] */
-box_4_cx = 1.4928; // [-50:0.01:50]
-box_4_cy = 0.0478; // [-50:0.01:50]
-box_4_cz = -1.6466; // [-50:0.01:50]
-box_4_size_x = 0.5403; // [0:0.01:50]
+box_4_cx = 0.0478; // [-50:0.01:50]
+box_4_cy = -1.6466; // [-50:0.01:50]
 box_4_size_y = 5.8456; // [0:0.01:50]
 box_4_size_z = 6.7068; // [0:0.01:50]
 
@@ -91,19 +91,21 @@ box_8_size_x = 0.5403; // [0:0.01:50]
 box_8_size_y = 0.54; // [0:0.01:50]
 box_8_size_z = 9.1906; // [0:0.01:50]
 
+/* [Extrusion 3] */
+extrude_3_x = 1.2227; // [-50:0.01:50]
+extrude_3_rot_x = 90; // [-180:0.1:180]
+extrude_3_rot_z = 90; // [-180:0.1:180]
+extrude_3_h = 0.5403; // [0:0.01:50]
+
 /* [Box 9] */
-box_9_cx = 1.4928; // [-50:0.01:50]
-box_9_cy = 0.0494; // [-50:0.01:50]
-box_9_cz = -0.4047; // [-50:0.01:50]
-box_9_size_x = 0.5403; // [0:0.01:50]
+box_9_cx = 0.0494; // [-50:0.01:50]
+box_9_cy = -0.4047; // [-50:0.01:50]
 box_9_size_y = 0.54; // [0:0.01:50]
 box_9_size_z = 9.1906; // [0:0.01:50]
 
 /* [Cylinder 10] */
-cyl_10_cx = 0; // [-50:0.01:50]
-cyl_10_cy = -0.0661; // [-50:0.01:50]
-cyl_10_cz = -4.6675; // [-50:0.01:50]
-cyl_10_rot_y = 90; // [-180:0.1:180]
+cyl_10_cx = -0.0661; // [-50:0.01:50]
+cyl_10_cy = -4.6675; // [-50:0.01:50]
 
 /* [Box 11] */
 box_11_cx = -1.0718; // [-50:0.01:50]
@@ -113,49 +115,45 @@ box_11_size_x = 1.3823; // [0:0.01:50]
 box_11_size_y = 1.8559; // [0:0.01:50]
 box_11_size_z = 1.3715; // [0:0.01:50]
 
+/* [Extrusion 4] */
+extrude_4_x = 1.2227; // [-50:0.01:50]
+extrude_4_rot_x = 90; // [-180:0.1:180]
+extrude_4_rot_z = 90; // [-180:0.1:180]
+extrude_4_h = 0.5403; // [0:0.01:50]
+
 /* [Cylinder 12] */
-cyl_12_cx = 1.4928; // [-50:0.01:50]
-cyl_12_cy = 0.5893; // [-50:0.01:50]
-cyl_12_cz = 4.1906; // [-50:0.01:50]
-cyl_12_rot_y = -90; // [-180:0.1:180]
+cyl_12_cx = 0.5893; // [-50:0.01:50]
+cyl_12_cy = 4.1906; // [-50:0.01:50]
 cyl_12_r = 0.8096; // [0:0.01:50]
-cyl_12_h = 0.5403; // [0:0.01:50]
 
 /* [Cylinder 13] */
-cyl_13_cx = 0; // [-50:0.01:50]
-cyl_13_cy = 0.5893; // [-50:0.01:50]
-cyl_13_cz = 4.2554; // [-50:0.01:50]
-cyl_13_rot_y = 90; // [-180:0.1:180]
+cyl_13_cx = 0.5893; // [-50:0.01:50]
+cyl_13_cy = 4.2554; // [-50:0.01:50]
 cyl_13_r = 0.2534; // [0:0.01:50]
+
+/* [Extrusion 5] */
+extrude_5_y = 2.9706; // [-50:0.01:50]
+extrude_5_rot_x = 90; // [-180:0.1:180]
+extrude_5_h = 1.8914; // [0:0.01:50]
 
 /* [Box 14] */
 box_14_cx = 0.0008; // [-50:0.01:50]
-box_14_cy = 0; // [-50:0.01:50]
-box_14_cz = 1.8493; // [-50:0.01:50]
-box_14_rot_x = -90; // [-180:0.1:180]
-box_14_rot_y = 89.972321; // [-180:0.1:180]
-box_14_rot_z = 180; // [-180:0.1:180]
-box_14_size_x = 6.8991; // [0:0.01:50]
+box_14_cy = 1.8493; // [-50:0.01:50]
+box_14_angle = -0.027679; // [-180:0.1:180]
 box_14_size_y = 3.5309; // [0:0.01:50]
-box_14_size_z = 5.9412; // [0:0.01:50]
+box_14_size_x = 6.8991; // [0:0.01:50]
 
 /* [Box 15] */
 box_15_cx = 0.0011; // [-50:0.01:50]
-box_15_cy = 0; // [-50:0.01:50]
-box_15_cz = -2.7221; // [-50:0.01:50]
-box_15_rot_x = 90; // [-180:0.1:180]
-box_15_rot_y = -89.97891; // [-180:0.1:180]
-box_15_rot_z = 180; // [-180:0.1:180]
-box_15_size_x = 4.5571; // [0:0.01:50]
+box_15_cy = -2.7221; // [-50:0.01:50]
+box_15_angle = 0.02109; // [-180:0.1:180]
 box_15_size_y = 3.5297; // [0:0.01:50]
-box_15_size_z = 5.9412; // [0:0.01:50]
+box_15_size_x = 4.5571; // [0:0.01:50]
 
 /* [Box 16] */
 box_16_cx = 0; // [-50:0.01:50]
-box_16_cy = 2.0249; // [-50:0.01:50]
-box_16_cz = -1.022; // [-50:0.01:50]
+box_16_cy = -1.022; // [-50:0.01:50]
 box_16_size_x = 3.5259; // [0:0.01:50]
-box_16_size_y = 1.8914; // [0:0.01:50]
 box_16_size_z = 1.1582; // [0:0.01:50]
 
 /* [Cone 17] */
@@ -209,24 +207,22 @@ cyl_22_cz = -0.4442; // [-50:0.01:50]
 cyl_22_rot_y = 90; // [-180:0.1:180]
 cyl_22_r = 0.108; // [0:0.01:50]
 
+/* [Extrusion 6] */
+extrude_6_z = -1.7077; // [-50:0.01:50]
+extrude_6_h = 1.3715; // [0:0.01:50]
+
 /* [Box 23] */
 box_23_cx = 0; // [-50:0.01:50]
 box_23_cy = -0.0541; // [-50:0.01:50]
-box_23_cz = 0.149; // [-50:0.01:50]
-box_23_rot_x = 180; // [-180:0.1:180]
-box_23_rot_y = 0.000009; // [-180:0.1:180]
-box_23_rot_z = 89.978001; // [-180:0.1:180]
-box_23_size_x = 5.8343; // [0:0.01:50]
+box_23_angle = -0.021999; // [-180:0.1:180]
 box_23_size_y = 3.5282; // [0:0.01:50]
-box_23_size_z = 10.2979; // [0:0.01:50]
+box_23_size_x = 5.8343; // [0:0.01:50]
 
 /* [Box 24] */
 box_24_cx = -1.0718; // [-50:0.01:50]
 box_24_cy = 1.8769; // [-50:0.01:50]
-box_24_cz = -1.022; // [-50:0.01:50]
 box_24_size_x = 1.3823; // [0:0.01:50]
 box_24_size_y = 1.9735; // [0:0.01:50]
-box_24_size_z = 1.3715; // [0:0.01:50]
 
 /* [Cylinder 25] */
 cyl_25_cx = -0.0008; // [-50:0.01:50]
@@ -264,97 +260,77 @@ box_28_size_x = 1.3823; // [0:0.01:50]
 box_28_size_y = 2.2949; // [0:0.01:50]
 box_28_size_z = 0.6102; // [0:0.01:50]
 
+/* [Extrusion 7] */
+extrude_7_x = 1.2227; // [-50:0.01:50]
+extrude_7_rot_x = 90; // [-180:0.1:180]
+extrude_7_rot_z = 90; // [-180:0.1:180]
+extrude_7_h = 0.5403; // [0:0.01:50]
+
 /* [Box 29] */
-box_29_cx = 0; // [-50:0.01:50]
-box_29_cy = -0.1659; // [-50:0.01:50]
-box_29_cz = -1.693; // [-50:0.01:50]
-box_29_rot_x = -180; // [-180:0.1:180]
-box_29_rot_y = -84.853472; // [-180:0.1:180]
-box_29_rot_z = 90; // [-180:0.1:180]
-box_29_size_x = 7.0906; // [0:0.01:50]
-box_29_size_y = 3.5259; // [0:0.01:50]
+box_29_cx = -0.1659; // [-50:0.01:50]
+box_29_cy = -1.693; // [-50:0.01:50]
+box_29_angle = -5.146528; // [-180:0.1:180]
 box_29_size_z = 6.841; // [0:0.01:50]
+box_29_size_x = 7.0906; // [0:0.01:50]
 
 /* [Box 30] */
-box_30_cx = 1.4928; // [-50:0.01:50]
-box_30_cy = 1.267; // [-50:0.01:50]
-box_30_cz = -1.4276; // [-50:0.01:50]
-box_30_size_x = 0.5403; // [0:0.01:50]
+box_30_cx = 1.267; // [-50:0.01:50]
+box_30_cy = -1.4276; // [-50:0.01:50]
 box_30_size_y = 3.4072; // [0:0.01:50]
 box_30_size_z = 7.1448; // [0:0.01:50]
 
+/* [Extrusion 8] */
+extrude_8_x = 1.2227; // [-50:0.01:50]
+extrude_8_rot_x = 90; // [-180:0.1:180]
+extrude_8_rot_z = 90; // [-180:0.1:180]
+extrude_8_h = 0.5403; // [0:0.01:50]
+
 /* [Box 31] */
-box_31_cx = 1.4928; // [-50:0.01:50]
-box_31_cy = 1.267; // [-50:0.01:50]
-box_31_cz = -1.538; // [-50:0.01:50]
-box_31_size_x = 0.5403; // [0:0.01:50]
+box_31_cx = 1.267; // [-50:0.01:50]
+box_31_cy = -1.538; // [-50:0.01:50]
 box_31_size_y = 3.4072; // [0:0.01:50]
 box_31_size_z = 6.924; // [0:0.01:50]
 
 /* [Box 32] */
-box_32_cx = 0; // [-50:0.01:50]
-box_32_cy = -1.2293; // [-50:0.01:50]
-box_32_cz = -1.1729; // [-50:0.01:50]
-box_32_rot_x = 180; // [-180:0.1:180]
-box_32_rot_y = -47.078264; // [-180:0.1:180]
-box_32_rot_z = 90; // [-180:0.1:180]
-box_32_size_x = 7.9766; // [0:0.01:50]
-box_32_size_y = 3.5259; // [0:0.01:50]
+box_32_cx = -1.2293; // [-50:0.01:50]
+box_32_cy = -1.1729; // [-50:0.01:50]
+box_32_angle = -42.921736; // [-180:0.1:180]
 box_32_size_z = 11.3635; // [0:0.01:50]
+box_32_size_x = 7.9766; // [0:0.01:50]
 
 /* [Box 33] */
-box_33_cx = 0; // [-50:0.01:50]
-box_33_cy = -0.447; // [-50:0.01:50]
-box_33_cz = -1.7052; // [-50:0.01:50]
-box_33_rot_x = 180; // [-180:0.1:180]
-box_33_rot_y = -76.446703; // [-180:0.1:180]
-box_33_rot_z = 90; // [-180:0.1:180]
-box_33_size_x = 7.589; // [0:0.01:50]
-box_33_size_y = 3.5259; // [0:0.01:50]
+box_33_cx = -0.447; // [-50:0.01:50]
+box_33_cy = -1.7052; // [-50:0.01:50]
+box_33_angle = -13.553297; // [-180:0.1:180]
 box_33_size_z = 8.1891; // [0:0.01:50]
+box_33_size_x = 7.589; // [0:0.01:50]
 
 /* [Box 34] */
-box_34_cx = 0; // [-50:0.01:50]
-box_34_cy = -1.3368; // [-50:0.01:50]
-box_34_cz = -0.7725; // [-50:0.01:50]
-box_34_rot_x = 180; // [-180:0.1:180]
-box_34_rot_y = -34.578303; // [-180:0.1:180]
-box_34_rot_z = 90; // [-180:0.1:180]
+box_34_cx = -1.3368; // [-50:0.01:50]
+box_34_cy = -0.7725; // [-50:0.01:50]
+box_34_angle = 34.578303; // [-180:0.1:180]
 box_34_size_x = 7.4888; // [0:0.01:50]
-box_34_size_y = 3.5259; // [0:0.01:50]
 box_34_size_z = 11.8506; // [0:0.01:50]
 
 /* [Box 35] */
-box_35_cx = 0; // [-50:0.01:50]
-box_35_cy = -1.2677; // [-50:0.01:50]
-box_35_cz = -0.3612; // [-50:0.01:50]
-box_35_rot_x = 180; // [-180:0.1:180]
-box_35_rot_y = -21.91949; // [-180:0.1:180]
-box_35_rot_z = 90; // [-180:0.1:180]
+box_35_cx = -1.2677; // [-50:0.01:50]
+box_35_cy = -0.3612; // [-50:0.01:50]
+box_35_angle = 21.91949; // [-180:0.1:180]
 box_35_size_x = 6.6229; // [0:0.01:50]
-box_35_size_y = 3.5259; // [0:0.01:50]
 box_35_size_z = 11.7714; // [0:0.01:50]
 
 /* [Box 36] */
-box_36_cx = 0; // [-50:0.01:50]
-box_36_cy = -0.5878; // [-50:0.01:50]
-box_36_cz = -1.6809; // [-50:0.01:50]
-box_36_rot_x = 180; // [-180:0.1:180]
-box_36_rot_y = -72.189952; // [-180:0.1:180]
-box_36_rot_z = 90; // [-180:0.1:180]
-box_36_size_x = 7.7777; // [0:0.01:50]
-box_36_size_y = 3.5259; // [0:0.01:50]
+box_36_cx = -0.5878; // [-50:0.01:50]
+box_36_cy = -1.6809; // [-50:0.01:50]
+box_36_angle = -17.810048; // [-180:0.1:180]
 box_36_size_z = 8.8062; // [0:0.01:50]
+box_36_size_x = 7.7777; // [0:0.01:50]
 
 /* [Box 37] */
-box_37_cx = 0; // [-50:0.01:50]
-box_37_cy = -1.3206; // [-50:0.01:50]
-box_37_cz = -0.9081; // [-50:0.01:50]
-box_37_rot_x = 180; // [-180:0.1:180]
-box_37_rot_y = -38.675709; // [-180:0.1:180]
-box_37_rot_z = 90; // [-180:0.1:180]
+box_37_cx = -1.3206; // [-50:0.01:50]
+box_37_cy = -0.9081; // [-50:0.01:50]
+box_37_angle = 38.675709; // [-180:0.1:180]
 box_37_size_x = 7.6905; // [0:0.01:50]
-box_37_size_y = 3.5259; // [0:0.01:50]
 box_37_size_z = 11.7523; // [0:0.01:50]
 
 /* [Box 38] */
@@ -448,34 +424,29 @@ box_47_size_x = 2.878; // [0:0.01:50]
 box_47_size_y = 1.7944; // [0:0.01:50]
 box_47_size_z = 1.3715; // [0:0.01:50]
 
+/* [Extrusion 9] */
+extrude_9_y = -1.0807; // [-50:0.01:50]
+extrude_9_rot_x = 90; // [-180:0.1:180]
+extrude_9_h = 1.8899; // [0:0.01:50]
+
 /* [Box 48] */
 box_48_cx = 0.0003; // [-50:0.01:50]
-box_48_cy = 0; // [-50:0.01:50]
-box_48_cz = 1.8489; // [-50:0.01:50]
-box_48_rot_x = -90; // [-180:0.1:180]
-box_48_rot_y = 89.989339; // [-180:0.1:180]
-box_48_rot_z = 180; // [-180:0.1:180]
-box_48_size_x = 6.8987; // [0:0.01:50]
+box_48_cy = 1.8489; // [-50:0.01:50]
+box_48_angle = -0.010661; // [-180:0.1:180]
 box_48_size_y = 3.5278; // [0:0.01:50]
-box_48_size_z = 5.9412; // [0:0.01:50]
+box_48_size_x = 6.8987; // [0:0.01:50]
 
 /* [Box 49] */
 box_49_cx = 0.0011; // [-50:0.01:50]
-box_49_cy = 0; // [-50:0.01:50]
-box_49_cz = -2.7221; // [-50:0.01:50]
-box_49_rot_x = 90; // [-180:0.1:180]
-box_49_rot_y = -89.97891; // [-180:0.1:180]
-box_49_rot_z = 180; // [-180:0.1:180]
-box_49_size_x = 4.5571; // [0:0.01:50]
+box_49_cy = -2.7221; // [-50:0.01:50]
+box_49_angle = 0.02109; // [-180:0.1:180]
 box_49_size_y = 3.5297; // [0:0.01:50]
-box_49_size_z = 5.9412; // [0:0.01:50]
+box_49_size_x = 4.5571; // [0:0.01:50]
 
 /* [Box 50] */
 box_50_cx = 0.324; // [-50:0.01:50]
-box_50_cy = -2.0256; // [-50:0.01:50]
-box_50_cz = -1.0219; // [-50:0.01:50]
+box_50_cy = -1.0219; // [-50:0.01:50]
 box_50_size_x = 2.878; // [0:0.01:50]
-box_50_size_y = 1.8899; // [0:0.01:50]
 box_50_size_z = 1.1579; // [0:0.01:50]
 
 /* [Cylinder 51] */
@@ -672,63 +643,52 @@ box_71_size_x = 3.5259; // [0:0.01:50]
 box_71_size_y = 1.8914; // [0:0.01:50]
 box_71_size_z = 3.5222; // [0:0.01:50]
 
+/* [Revolution 1] */
+revolve_1_x = 0.4401; // [-50:0.01:50]
+revolve_1_y = 1.079; // [-50:0.01:50]
+revolve_1_z = 0.0003; // [-50:0.01:50]
+revolve_1_rot_x = 0.014011; // [-180:0.1:180]
+revolve_1_rot_y = -0.000613; // [-180:0.1:180]
+
 /* [Cylinder 72] */
-cyl_72_cx = 0.4401; // [-50:0.01:50]
-cyl_72_cy = 1.079; // [-50:0.01:50]
-cyl_72_cz = 0.1492; // [-50:0.01:50]
-cyl_72_rot_x = -0.014011; // [-180:0.1:180]
-cyl_72_rot_y = 179.999387; // [-180:0.1:180]
+cyl_72_cz = 0.149; // [-50:0.01:50]
 cyl_72_r = 0.1348; // [0:0.01:50]
 cyl_72_h = 10.2994; // [0:0.01:50]
 
 /* [Cone 73] */
-cone_73_cx = 0.4401; // [-50:0.01:50]
-cone_73_cy = 1.0785; // [-50:0.01:50]
-cone_73_cz = 2.1242; // [-50:0.01:50]
-cone_73_rot_x = 0.014011; // [-180:0.1:180]
-cone_73_rot_y = -0.000613; // [-180:0.1:180]
+cone_73_cz = 2.1239; // [-50:0.01:50]
 cone_73_r1 = 0; // [0:0.01:50]
 cone_73_r2 = 2.2995; // [0:0.01:50]
 cone_73_h = 6.3496; // [0:0.01:50]
 
 /* [Cone 74] */
-cone_74_cx = 0.4401; // [-50:0.01:50]
-cone_74_cy = 1.0785; // [-50:0.01:50]
-cone_74_cz = 2.257; // [-50:0.01:50]
-cone_74_rot_x = 0.014011; // [-180:0.1:180]
-cone_74_rot_y = -0.000613; // [-180:0.1:180]
+cone_74_cz = 2.2567; // [-50:0.01:50]
 cone_74_r1 = 0; // [0:0.01:50]
 cone_74_r2 = 16.3906; // [0:0.01:50]
 cone_74_h = 6.0839; // [0:0.01:50]
 
 /* [Cone 75] */
-cone_75_cx = 0.4401; // [-50:0.01:50]
-cone_75_cy = 1.0785; // [-50:0.01:50]
-cone_75_cz = 2.2375; // [-50:0.01:50]
-cone_75_rot_x = 0.014011; // [-180:0.1:180]
-cone_75_rot_y = -0.000613; // [-180:0.1:180]
+cone_75_cz = 2.2372; // [-50:0.01:50]
 cone_75_r1 = 0; // [0:0.01:50]
 cone_75_r2 = 7.2391; // [0:0.01:50]
 cone_75_h = 6.1229; // [0:0.01:50]
 
+/* [Extrusion 10] */
+extrude_10_z = -1.7077; // [-50:0.01:50]
+extrude_10_h = 1.3715; // [0:0.01:50]
+
 /* [Box 76] */
 box_76_cx = 0; // [-50:0.01:50]
 box_76_cy = -0.0545; // [-50:0.01:50]
-box_76_cz = 0.149; // [-50:0.01:50]
-box_76_rot_x = -180; // [-180:0.1:180]
-box_76_rot_y = 0.000001; // [-180:0.1:180]
-box_76_rot_z = 90.005562; // [-180:0.1:180]
-box_76_size_x = 5.8325; // [0:0.01:50]
+box_76_angle = 0.005562; // [-180:0.1:180]
 box_76_size_y = 3.5265; // [0:0.01:50]
-box_76_size_z = 10.2979; // [0:0.01:50]
+box_76_size_x = 5.8325; // [0:0.01:50]
 
 /* [Box 77] */
 box_77_cx = 0; // [-50:0.01:50]
 box_77_cy = 1.9706; // [-50:0.01:50]
-box_77_cz = -1.022; // [-50:0.01:50]
 box_77_size_x = 3.5259; // [0:0.01:50]
 box_77_size_y = 1.7828; // [0:0.01:50]
-box_77_size_z = 1.3715; // [0:0.01:50]
 
 /* [Cone 78] */
 cone_78_cx = 0.4401; // [-50:0.01:50]
@@ -1199,40 +1159,48 @@ $fn = segments;
 // this radius gives the polygon the fitted circle's area instead.
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
+// rotate_extrude() sweeps $fn-gons: a profile stretched across its axis by fn_r(1)
+// gives each the area of the circle it stands for, as fn_r does a cylinder's.
+
 module csg_high_res() {
   difference() {
     union() {
       difference() {
         union() {
-          intersection() {
-            translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, box_1_rot_y, 0]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-            translate([box_2_cx, box_2_cy, box_2_cz]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
-          }
-          intersection() {
-            translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
-            translate([box_4_cx, box_4_cy, box_4_cz]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
-          }
+          translate([0, extrude_1_y, 0]) rotate([extrude_1_rot_x, 0, 0]) linear_extrude(height = extrude_1_h)
+            intersection() {
+              translate([box_1_cx, box_1_cy]) rotate(box_1_angle) square([box_1_size_y, box_1_size_x], center = true);
+              translate([box_2_cx, box_2_cy]) square([box_2_size_x, box_2_size_z], center = true);
+            }
+          translate([extrude_2_x, 0, 0]) rotate([extrude_2_rot_x, 0, extrude_2_rot_z]) linear_extrude(height = extrude_2_h)
+            intersection() {
+              translate([box_3_cx, box_3_cy]) rotate(box_3_angle) square([box_3_size_x, box_3_size_z], center = true);
+              translate([box_4_cx, box_4_cy]) square([box_4_size_y, box_4_size_z], center = true);
+            }
         }
         translate([cyl_5_cx, cyl_5_cy, cyl_5_cz]) rotate([0, cyl_5_rot_y, 0]) cylinder(h = hole_h, r = fn_r(hole_r), center = true);
         translate([cyl_6_cx, cyl_6_cy, cyl_6_cz]) rotate([0, cyl_6_rot_y, 0]) cylinder(h = hole_h2, r = fn_r(hole_r2), center = true);
         translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([0, cyl_7_rot_y, 0]) cylinder(h = cyl_7_h, r = fn_r(cyl_7_r), center = true);
       }
       translate([box_8_cx, box_8_cy, box_8_cz]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
-      difference() {
-        translate([box_9_cx, box_9_cy, box_9_cz]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
-        translate([cyl_10_cx, cyl_10_cy, cyl_10_cz]) rotate([0, cyl_10_rot_y, 0]) cylinder(h = hole_h, r = fn_r(hole_r), center = true);
-      }
-      translate([box_11_cx, box_11_cy, box_11_cz]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
-      difference() {
-        translate([cyl_12_cx, cyl_12_cy, cyl_12_cz]) rotate([0, cyl_12_rot_y, 0]) cylinder(h = cyl_12_h, r = fn_r(cyl_12_r), center = true);
-        translate([cyl_13_cx, cyl_13_cy, cyl_13_cz]) rotate([0, cyl_13_rot_y, 0]) cylinder(h = cyl_h, r = fn_r(cyl_13_r), center = true);
-      }
-      difference() {
-        intersection() {
-          translate([box_14_cx, box_14_cy, box_14_cz]) rotate([box_14_rot_x, box_14_rot_y, box_14_rot_z]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);
-          translate([box_15_cx, box_15_cy, box_15_cz]) rotate([box_15_rot_x, box_15_rot_y, box_15_rot_z]) cube([box_15_size_x, box_15_size_y, box_15_size_z], center = true);
-          translate([box_16_cx, box_16_cy, box_16_cz]) cube([box_16_size_x, box_16_size_y, box_16_size_z], center = true);
+      translate([extrude_3_x, 0, 0]) rotate([extrude_3_rot_x, 0, extrude_3_rot_z]) linear_extrude(height = extrude_3_h)
+        difference() {
+          translate([box_9_cx, box_9_cy]) square([box_9_size_y, box_9_size_z], center = true);
+          translate([cyl_10_cx, cyl_10_cy]) circle(r = fn_r(hole_r));
         }
+      translate([box_11_cx, box_11_cy, box_11_cz]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
+      translate([extrude_4_x, 0, 0]) rotate([extrude_4_rot_x, 0, extrude_4_rot_z]) linear_extrude(height = extrude_4_h)
+        difference() {
+          translate([cyl_12_cx, cyl_12_cy]) circle(r = fn_r(cyl_12_r));
+          translate([cyl_13_cx, cyl_13_cy]) circle(r = fn_r(cyl_13_r));
+        }
+      difference() {
+        translate([0, extrude_5_y, 0]) rotate([extrude_5_rot_x, 0, 0]) linear_extrude(height = extrude_5_h)
+          intersection() {
+            translate([box_14_cx, box_14_cy]) rotate(box_14_angle) square([box_14_size_y, box_14_size_x], center = true);
+            translate([box_15_cx, box_15_cy]) rotate(box_15_angle) square([box_15_size_y, box_15_size_x], center = true);
+            translate([box_16_cx, box_16_cy]) square([box_16_size_x, box_16_size_z], center = true);
+          }
         translate([cone_17_cx, cone_17_cy, cone_17_cz]) rotate([cone_17_rot_x, cone_17_rot_y, 0]) cylinder(h = cone_17_h, r1 = fn_r(cone_17_r1), r2 = fn_r(cone_17_r2), center = true);
       }
       intersection() {
@@ -1242,10 +1210,11 @@ module csg_high_res() {
       translate([box_20_cx, box_20_cy, box_20_cz]) cube([box_20_size_x, box_20_size_y, box_20_size_z], center = true);
       translate([cyl_21_cx, cyl_21_cy, cyl_21_cz]) rotate([0, cyl_21_rot_y, 0]) cylinder(h = cyl_h, r = fn_r(cyl_21_r), center = true);
       translate([cyl_22_cx, cyl_22_cy, cyl_22_cz]) rotate([0, cyl_22_rot_y, 0]) cylinder(h = cyl_h, r = fn_r(cyl_22_r), center = true);
-      intersection() {
-        translate([box_23_cx, box_23_cy, box_23_cz]) rotate([box_23_rot_x, box_23_rot_y, box_23_rot_z]) cube([box_23_size_x, box_23_size_y, box_23_size_z], center = true);
-        translate([box_24_cx, box_24_cy, box_24_cz]) cube([box_24_size_x, box_24_size_y, box_24_size_z], center = true);
-      }
+      translate([0, 0, extrude_6_z]) linear_extrude(height = extrude_6_h)
+        intersection() {
+          translate([box_23_cx, box_23_cy]) rotate(box_23_angle) square([box_23_size_y, box_23_size_x], center = true);
+          translate([box_24_cx, box_24_cy]) square([box_24_size_x, box_24_size_y], center = true);
+        }
       intersection() {
         translate([cyl_25_cx, cyl_25_cy, cyl_25_cz]) rotate([cyl_25_rot_x, cyl_25_rot_y, 0]) cylinder(h = cyl_25_h, r = fn_r(cyl_25_r), center = true);
         translate([box_26_cx, box_26_cy, box_26_cz]) cube([box_26_size_x, box_26_size_y, box_26_size_z], center = true);
@@ -1256,21 +1225,23 @@ module csg_high_res() {
       }
       difference() {
         union() {
-          intersection() {
-            translate([box_29_cx, box_29_cy, box_29_cz]) rotate([box_29_rot_x, box_29_rot_y, box_29_rot_z]) cube([box_29_size_x, box_29_size_y, box_29_size_z], center = true);
-            translate([box_30_cx, box_30_cy, box_30_cz]) cube([box_30_size_x, box_30_size_y, box_30_size_z], center = true);
-          }
-          intersection() {
-            translate([box_31_cx, box_31_cy, box_31_cz]) cube([box_31_size_x, box_31_size_y, box_31_size_z], center = true);
-            union() {
-              translate([box_32_cx, box_32_cy, box_32_cz]) rotate([box_32_rot_x, box_32_rot_y, box_32_rot_z]) cube([box_32_size_x, box_32_size_y, box_32_size_z], center = true);
-              translate([box_33_cx, box_33_cy, box_33_cz]) rotate([box_33_rot_x, box_33_rot_y, box_33_rot_z]) cube([box_33_size_x, box_33_size_y, box_33_size_z], center = true);
-              translate([box_34_cx, box_34_cy, box_34_cz]) rotate([box_34_rot_x, box_34_rot_y, box_34_rot_z]) cube([box_34_size_x, box_34_size_y, box_34_size_z], center = true);
-              translate([box_35_cx, box_35_cy, box_35_cz]) rotate([box_35_rot_x, box_35_rot_y, box_35_rot_z]) cube([box_35_size_x, box_35_size_y, box_35_size_z], center = true);
-              translate([box_36_cx, box_36_cy, box_36_cz]) rotate([box_36_rot_x, box_36_rot_y, box_36_rot_z]) cube([box_36_size_x, box_36_size_y, box_36_size_z], center = true);
-              translate([box_37_cx, box_37_cy, box_37_cz]) rotate([box_37_rot_x, box_37_rot_y, box_37_rot_z]) cube([box_37_size_x, box_37_size_y, box_37_size_z], center = true);
+          translate([extrude_7_x, 0, 0]) rotate([extrude_7_rot_x, 0, extrude_7_rot_z]) linear_extrude(height = extrude_7_h)
+            intersection() {
+              translate([box_29_cx, box_29_cy]) rotate(box_29_angle) square([box_29_size_z, box_29_size_x], center = true);
+              translate([box_30_cx, box_30_cy]) square([box_30_size_y, box_30_size_z], center = true);
             }
-          }
+          translate([extrude_8_x, 0, 0]) rotate([extrude_8_rot_x, 0, extrude_8_rot_z]) linear_extrude(height = extrude_8_h)
+            intersection() {
+              translate([box_31_cx, box_31_cy]) square([box_31_size_y, box_31_size_z], center = true);
+              union() {
+                translate([box_32_cx, box_32_cy]) rotate(box_32_angle) square([box_32_size_z, box_32_size_x], center = true);
+                translate([box_33_cx, box_33_cy]) rotate(box_33_angle) square([box_33_size_z, box_33_size_x], center = true);
+                translate([box_34_cx, box_34_cy]) rotate(box_34_angle) square([box_34_size_x, box_34_size_z], center = true);
+                translate([box_35_cx, box_35_cy]) rotate(box_35_angle) square([box_35_size_x, box_35_size_z], center = true);
+                translate([box_36_cx, box_36_cy]) rotate(box_36_angle) square([box_36_size_z, box_36_size_x], center = true);
+                translate([box_37_cx, box_37_cy]) rotate(box_37_angle) square([box_37_size_x, box_37_size_z], center = true);
+              }
+            }
           intersection() {
             translate([box_38_cx, box_38_cy, box_38_cz]) cube([box_38_size_x, box_38_size_y, box_38_size_z], center = true);
             translate([box_39_cx, box_39_cy, box_39_cz]) rotate([box_39_rot_x, box_39_rot_y, box_39_rot_z]) cube([box_39_size_x, box_39_size_y, box_39_size_z], center = true);
@@ -1291,11 +1262,12 @@ module csg_high_res() {
       difference() {
         union() {
           translate([box_47_cx, box_47_cy, box_47_cz]) cube([box_47_size_x, box_47_size_y, box_47_size_z], center = true);
-          intersection() {
-            translate([box_48_cx, box_48_cy, box_48_cz]) rotate([box_48_rot_x, box_48_rot_y, box_48_rot_z]) cube([box_48_size_x, box_48_size_y, box_48_size_z], center = true);
-            translate([box_49_cx, box_49_cy, box_49_cz]) rotate([box_49_rot_x, box_49_rot_y, box_49_rot_z]) cube([box_49_size_x, box_49_size_y, box_49_size_z], center = true);
-            translate([box_50_cx, box_50_cy, box_50_cz]) cube([box_50_size_x, box_50_size_y, box_50_size_z], center = true);
-          }
+          translate([0, extrude_9_y, 0]) rotate([extrude_9_rot_x, 0, 0]) linear_extrude(height = extrude_9_h)
+            intersection() {
+              translate([box_48_cx, box_48_cy]) rotate(box_48_angle) square([box_48_size_y, box_48_size_x], center = true);
+              translate([box_49_cx, box_49_cy]) rotate(box_49_angle) square([box_49_size_y, box_49_size_x], center = true);
+              translate([box_50_cx, box_50_cy]) square([box_50_size_x, box_50_size_z], center = true);
+            }
         }
         translate([cyl_51_cx, cyl_51_cy, cyl_51_cz]) rotate([cyl_51_rot_x, cyl_51_rot_y, 0]) cylinder(h = cyl_51_h, r = fn_r(cyl_51_r), center = true);
       }
@@ -1334,18 +1306,20 @@ module csg_high_res() {
           translate([box_70_cx, box_70_cy, box_70_cz]) rotate([box_70_rot_x, box_70_rot_y, box_70_rot_z]) cube([box_70_size_x, box_70_size_y, box_70_size_z], center = true);
           translate([box_71_cx, box_71_cy, box_71_cz]) cube([box_71_size_x, box_71_size_y, box_71_size_z], center = true);
         }
-        intersection() {
-          translate([cyl_72_cx, cyl_72_cy, cyl_72_cz]) rotate([cyl_72_rot_x, cyl_72_rot_y, 0]) cylinder(h = cyl_72_h, r = fn_r(cyl_72_r), center = true);
-          translate([cone_73_cx, cone_73_cy, cone_73_cz]) rotate([cone_73_rot_x, cone_73_rot_y, 0]) cylinder(h = cone_73_h, r1 = fn_r(cone_73_r1), r2 = fn_r(cone_73_r2), center = true);
-          translate([cone_74_cx, cone_74_cy, cone_74_cz]) rotate([cone_74_rot_x, cone_74_rot_y, 0]) cylinder(h = cone_74_h, r1 = fn_r(cone_74_r1), r2 = fn_r(cone_74_r2), center = true);
-          translate([cone_75_cx, cone_75_cy, cone_75_cz]) rotate([cone_75_rot_x, cone_75_rot_y, 0]) cylinder(h = cone_75_h, r1 = fn_r(cone_75_r1), r2 = fn_r(cone_75_r2), center = true);
-        }
+        translate([revolve_1_x, revolve_1_y, revolve_1_z]) rotate([revolve_1_rot_x, revolve_1_rot_y, 0]) rotate_extrude() scale([fn_r(1), 1])
+          intersection() {
+            translate([0, cyl_72_cz - cyl_72_h / 2]) square([cyl_72_r, cyl_72_h]);
+            translate([0, cone_73_cz]) polygon([[0, -cone_73_h / 2], [cone_73_r1, -cone_73_h / 2], [cone_73_r2, cone_73_h / 2], [0, cone_73_h / 2]]);
+            translate([0, cone_74_cz]) polygon([[0, -cone_74_h / 2], [cone_74_r1, -cone_74_h / 2], [cone_74_r2, cone_74_h / 2], [0, cone_74_h / 2]]);
+            translate([0, cone_75_cz]) polygon([[0, -cone_75_h / 2], [cone_75_r1, -cone_75_h / 2], [cone_75_r2, cone_75_h / 2], [0, cone_75_h / 2]]);
+          }
       }
       difference() {
-        intersection() {
-          translate([box_76_cx, box_76_cy, box_76_cz]) rotate([box_76_rot_x, box_76_rot_y, box_76_rot_z]) cube([box_76_size_x, box_76_size_y, box_76_size_z], center = true);
-          translate([box_77_cx, box_77_cy, box_77_cz]) cube([box_77_size_x, box_77_size_y, box_77_size_z], center = true);
-        }
+        translate([0, 0, extrude_10_z]) linear_extrude(height = extrude_10_h)
+          intersection() {
+            translate([box_76_cx, box_76_cy]) rotate(box_76_angle) square([box_76_size_y, box_76_size_x], center = true);
+            translate([box_77_cx, box_77_cy]) square([box_77_size_x, box_77_size_y], center = true);
+          }
         translate([cone_78_cx, cone_78_cy, cone_78_cz]) rotate([cone_78_rot_x, cone_78_rot_y, 0]) cylinder(h = cone_78_h, r1 = fn_r(cone_78_r1), r2 = fn_r(cone_78_r2), center = true);
       }
       difference() {
