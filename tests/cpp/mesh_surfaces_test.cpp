@@ -98,5 +98,25 @@ TEST_F(MeshSurfacesTest, ABallIsOneSphere) {
   EXPECT_TRUE(ball.shape.convex);
 }
 
+// A ball bored along x, y and z: its facets cut by the bores have corners on their own chord
+// planes, and its columns of facets would pass for narrow cylinders; it is still one sphere.
+TEST_F(MeshSurfacesTest, ABallBoredThroughIsOneSphereAndItsBores) {
+  const auto s = segment_mesh_surfaces(openscad_mesh(
+      "difference() { sphere(r = 15, $fn = 64); cylinder(r = 5, h = 40, center = true, $fn = 48);"
+      " rotate([90, 0, 0]) cylinder(r = 5, h = 40, center = true, $fn = 48);"
+      " rotate([0, 90, 0]) cylinder(r = 5, h = 40, center = true, $fn = 48); }"));
+  ASSERT_EQ(count_kind(s, SurfaceKind::Sphere), 1);
+  EXPECT_NEAR(first_of(s, SurfaceKind::Sphere)->shape.radius, 15, 0.02);
+  EXPECT_EQ(count_kind(s, SurfaceKind::Cylinder), 3);
+}
+
+// Any two coaxial circles lie on a sphere: a washer's short walls are cylinders, not balls.
+TEST_F(MeshSurfacesTest, AWashersShortWallsAreCylindersNotBalls) {
+  const auto s = segment_mesh_surfaces(openscad_mesh(
+      "difference() { cylinder(r = 12, h = 1.5, $fn = 60); translate([0, 0, -1]) cylinder(r = 4, h = 4, $fn = 40); }"));
+  EXPECT_EQ(count_kind(s, SurfaceKind::Sphere), 0);
+  EXPECT_EQ(count_kind(s, SurfaceKind::Cylinder), 2);
+}
+
 }  // namespace
 }  // namespace csgfit

@@ -155,30 +155,13 @@ std::vector<int> grow_revolution(const FacetMesh& fm, const std::vector<char>& i
                                  const std::vector<char>& used, double tolerance, Axis& axis) {
   // Enough of the surface around the seed to fix an axis: a 24 degree strip of a cone
   // leaves it loose, so rings are added until a dozen facets are in.
-  std::vector<int> near{seed};
-  for (int ring = 0; ring < kSeedRings && near.size() < kSeedFacets; ++ring) {
-    const std::size_t count = near.size();
-    for (std::size_t i = 0; i < count; ++i)
-      for (int k : fm.folds_of[near[i]]) {
-        const int g = fm.folds[k].a == near[i] ? fm.folds[k].b : fm.folds[k].a;
-        if (in_group[g] && !used[g] && std::find(near.begin(), near.end(), g) == near.end()) near.push_back(g);
-      }
-  }
+  const std::vector<int> near = neighbourhood(fm, in_group, used, seed, kSeedRings, kSeedFacets);
   if (near.size() < 4) return {};
   axis = best_axis(fm, near, tolerance);
   std::size_t agree = 0;
   for (int f : near) agree += axis.ok && meets(fm, f, axis, tolerance);
   if (!axis.ok || static_cast<double>(agree) < kSeedAgreement * static_cast<double>(near.size())) return {};
-  std::vector<int> members{seed};
-  std::vector<char> seen(fm.facets.size(), 0);
-  seen[seed] = 1;
-  for (std::size_t i = 0; i < members.size(); ++i)
-    for (int k : fm.folds_of[members[i]]) {
-      const int g = fm.folds[k].a == members[i] ? fm.folds[k].b : fm.folds[k].a;
-      if (!in_group[g] || used[g] || seen[g]) continue;
-      seen[g] = 1;
-      if (meets(fm, g, axis, tolerance)) members.push_back(g);
-    }
+  std::vector<int> members = grow_region(fm, in_group, used, seed, [&](int g) { return meets(fm, g, axis, tolerance); });
   const Axis refit = best_axis(fm, members, tolerance);
   if (refit.ok) axis = refit;
   return members;
@@ -413,6 +396,13 @@ std::vector<MeshSurface> find_revolutions(const FacetMesh& fm, const std::vector
   std::vector<char> tried(fm.facets.size(), 0);  // in a revolution grown before: no seed again
   for (int seed : order) {
     if (used[seed] || tried[seed]) continue;
+    // A ball first: its normals all meet at its centre, so every axis through it would do.
+    MeshSurface ball;
+    if (grow_sphere(fm, in_group, seed, used, tolerance, ball)) {
+      for (int t : ball.triangles) used[fm.facet_of[t]] = 1;
+      out.push_back(std::move(ball));
+      continue;
+    }
     Axis axis;
     const std::vector<int> members = grow_revolution(fm, in_group, seed, used, tolerance, axis);
     for (int f : members) tried[f] = 1;

@@ -155,6 +155,20 @@ FacetMesh build_facets(const TriangleMesh& mesh, double tolerance) {
   return fm;
 }
 
+std::vector<int> neighbourhood(const FacetMesh& fm, const std::vector<char>& in_group,
+                               const std::vector<char>& used, int seed, int rings, std::size_t enough) {
+  std::vector<int> near{seed};
+  for (int ring = 0; ring < rings && near.size() < enough; ++ring) {
+    const std::size_t count = near.size();
+    for (std::size_t i = 0; i < count; ++i)
+      for (int k : fm.folds_of[near[i]]) {
+        const int g = fm.folds[k].a == near[i] ? fm.folds[k].b : fm.folds[k].a;
+        if (in_group[g] && !used[g] && std::find(near.begin(), near.end(), g) == near.end()) near.push_back(g);
+      }
+  }
+  return near;
+}
+
 std::vector<int> facet_vertices(const FacetMesh& fm, const std::vector<int>& facets) {
   std::vector<int> out;
   for (int f : facets) out.insert(out.end(), fm.facets[f].vertices.begin(), fm.facets[f].vertices.end());

@@ -44,6 +44,29 @@ struct FacetMesh {
 /// one plane, then lists the folds between them.
 FacetMesh build_facets(const TriangleMesh& mesh, double tolerance);
 
+/// The facets of `in_group` not `used` within `rings` folds of `seed`, stopping at a ring once
+/// `enough` are in.
+std::vector<int> neighbourhood(const FacetMesh& fm, const std::vector<char>& in_group,
+                               const std::vector<char>& used, int seed, int rings, std::size_t enough);
+
+/// The facets reachable from `seed` over folds through facets of `in_group` not `used` that
+/// `accepts` (seed first; the seed itself is not asked).
+template <typename Accepts>
+std::vector<int> grow_region(const FacetMesh& fm, const std::vector<char>& in_group, const std::vector<char>& used,
+                             int seed, Accepts&& accepts) {
+  std::vector<int> members{seed};
+  std::vector<char> seen(fm.facets.size(), 0);
+  seen[seed] = 1;
+  for (std::size_t i = 0; i < members.size(); ++i)
+    for (int k : fm.folds_of[members[i]]) {
+      const int g = fm.folds[k].a == members[i] ? fm.folds[k].b : fm.folds[k].a;
+      if (!in_group[g] || used[g] || seen[g]) continue;
+      seen[g] = 1;
+      if (accepts(g)) members.push_back(g);
+    }
+  return members;
+}
+
 /// The vertices of a set of facets, each once.
 std::vector<int> facet_vertices(const FacetMesh& fm, const std::vector<int>& facets);
 
@@ -81,6 +104,11 @@ int regular_polygon(const FacetMesh& fm, const std::vector<int>& facets, const V
 namespace csgfit {
 
 struct MeshSurface;
+
+/// A ball grown from `seed` over the facets of `in_group` not `used` whose vertices all lie on
+/// one sphere within `tolerance`; false when the seed's surroundings are no ball.
+bool grow_sphere(const FacetMesh& fm, const std::vector<char>& in_group, int seed,
+                 const std::vector<char>& used, double tolerance, MeshSurface& ball);
 
 /// Surfaces of revolution among `group` (facets joined by small folds, none in an arc): the
 /// facets whose normal lines meet one axis, their profile across it cut into lines (cones,
