@@ -81,6 +81,16 @@ struct Prices {
   double literal = 0, hole = std::numeric_limits<double>::infinity();
 };
 
+// What each term (a literal, each side) takes out of the forbidden samples and loses of the
+// target at a growth's first step, which is the same for every seed of one region: counted
+// once, not once per seed (the first step counts the most words).
+// off_side looks at its running count every this many + 1 words (a power of two less one).
+constexpr std::size_t kCheckEvery = 15;
+
+struct FirstCounts {
+  std::vector<double> removed[2], lost[2];  // [inside][literal]
+};
+
 struct Growth {
   const Cells& cells;
   const Weigher& weigh;
@@ -88,62 +98,74 @@ struct Growth {
   const Column& forbidden;  // samples it must not hold (unless excused)
   const std::vector<Candidate>* holes = nullptr;
   Prices prices;
+  const FirstCounts* first = nullptr;
+  std::size_t* words_counted = nullptr;  // the work done, against kMostWordsCounted
 };
 
 double literal_price(const Literal& l) { return l.plane ? (l.separating ? kSeparatingPlaneCost : kPlaneCost) : 1.0; }
 
-// Weighted count, over words [w0, w1), of `bits` off the term's side.
-double off_side(const Cells& cells, const Term& t, const Column& bits, std::size_t w0, std::size_t w1) {
+// Weighted count, over the listed words, of `bits` off the term's side; the counting stops
+// once it passes `enough` (the term has lost too much to win), returning what it has so far.
+double off_side(const Cells& cells, const Term& t, const Column& bits, const std::vector<std::uint32_t>& words,
+                double enough = std::numeric_limits<double>::infinity()) {
   const Column& col = cells.columns[static_cast<std::size_t>(t.literal)];
   const Column& real = cells.samples->real;
   const std::size_t face = cells.samples->face_word;
+  const double fw = cells.samples->face_weight;
   std::size_t n[2] = {0, 0};
-  for (std::size_t w = w0; w < w1; ++w) {
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    const std::uint32_t w = words[i];
     const std::uint64_t off = t.inside ? ~col[w] : (col[w] & real[w]);
     n[w >= face] += static_cast<std::size_t>(__builtin_popcountll(bits[w] & off));
+    if ((i & kCheckEvery) == kCheckEvery && static_cast<double>(n[0]) + fw * static_cast<double>(n[1]) > enough) break;
   }
-  return static_cast<double>(n[0]) + cells.samples->face_weight * static_cast<double>(n[1]);
+  return static_cast<double>(n[0]) + fw * static_cast<double>(n[1]);
 }
 
-// The words [first, last) of a column that have bits.
-void span_of(const Column& c, std::size_t& first, std::size_t& last) {
-  first = 0, last = c.size();
-  while (first < last && !c[first]) ++first;
-  while (last > first && !c[last - 1]) --last;
+// The words of a column that have bits: the forbidden samples left after a few steps are a
+// few scattered words, and each step counts them for every literal (on a CAD part with 600
+// literals this loop was nine tenths of the construction).
+std::vector<std::uint32_t> words_of(const Column& c) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t w = 0; w < c.size(); ++w)
+    if (c[w]) out.push_back(static_cast<std::uint32_t>(w));
+  return out;
 }
 
 // One step: the term or hole that takes the most forbidden samples out for the least loss.
-// What a term takes out is counted over the forbidden samples' few words first; what it loses,
-// over all, only for terms that could still beat the best.
-bool grow_step(const Growth& g, std::size_t seed, Candidate& c, Column& rest) {
+// What a term takes out only shrinks as the product grows, so `removed` holds, per literal,
+// what it took out when last counted: terms are tried in the order of that bound and counted
+// again only while the bound could still beat the best; what a term loses is counted only for
+// terms whose recount could still win, and only until it cannot.
+bool grow_step(const Growth& g, std::size_t seed, Candidate& c, Column& rest, std::vector<double>& removed) {
   const double eps = g.cells.samples->face_weight;
   double best = 0;
   int pick_literal = -1, pick_hole = -1;
   Column kept = c.covered;
   and_with(kept, g.target);
-  std::size_t r0, r1, k0, k1;
-  span_of(rest, r0, r1);
-  span_of(kept, k0, k1);
-  struct Option {
-    double bound, removed, price;
-    std::size_t literal;
-  };
-  std::vector<Option> options;
-  for (std::size_t l = 0; l < g.cells.columns.size(); ++l) {
+  const bool first = g.first && c.product.empty() && c.excused.empty();
+  std::vector<std::uint32_t> rest_words, kept_words;
+  if (!first) rest_words = words_of(rest), kept_words = words_of(kept);
+  if (g.words_counted) *g.words_counted += rest_words.size() * g.cells.columns.size() + kept_words.size();
+  const std::size_t n = g.cells.columns.size();
+  std::vector<double> price(n);
+  std::vector<std::size_t> order(n);
+  for (std::size_t l = 0; l < n; ++l) {
+    price[l] = literal_price((*g.cells.literals)[l]) * g.prices.literal + eps;
+    order[l] = l;
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return removed[a] / price[a] > removed[b] / price[b]; });
+  for (const std::size_t l : order) {
+    if (!(removed[l] / price[l] > best)) break;
     const Term t{static_cast<int>(l), bit(g.cells.columns[l], seed)};
     if (std::find(c.product.begin(), c.product.end(), t) != c.product.end()) continue;
-    const double removed = off_side(g.cells, t, rest, r0, r1);
-    if (!(removed > 0)) continue;
-    const double price = literal_price((*g.cells.literals)[l]) * g.prices.literal + eps;
-    options.push_back({removed / price, removed, price, l});
-  }
-  // Best bound first: once a bound is below the best score, no later term can win.
-  std::sort(options.begin(), options.end(), [](const Option& a, const Option& b) { return a.bound > b.bound; });
-  for (const Option& o : options) {
-    if (!(o.bound > best)) break;
-    const Term t{static_cast<int>(o.literal), bit(g.cells.columns[o.literal], seed)};
-    const double score = o.removed / (off_side(g.cells, t, kept, k0, k1) + o.price);
-    if (score > best) best = score, pick_literal = static_cast<int>(o.literal), pick_hole = -1;
+    if (!first) removed[l] = off_side(g.cells, t, rest, rest_words);
+    if (!(removed[l] / price[l] > best)) continue;
+    // A term that loses more than this cannot beat the best: its count may stop there.
+    const double enough = best > 0 ? removed[l] / best - price[l] : std::numeric_limits<double>::infinity();
+    const double lost = first ? g.first->lost[t.inside][l] : off_side(g.cells, t, kept, kept_words, enough);
+    const double score = removed[l] / (lost + price[l]);
+    if (score > best) best = score, pick_literal = static_cast<int>(l), pick_hole = -1;
   }
   if (g.holes && std::isfinite(g.prices.hole))
     for (std::size_t h = 0; h < g.holes->size(); ++h) {
@@ -213,6 +235,21 @@ bool holes_for(const std::vector<Candidate>& holes, Column rest, const Weigher& 
   return true;
 }
 
+FirstCounts first_counts(const Growth& g, const Column& region) {
+  Column rest = g.forbidden, kept = region;
+  and_with(rest, region);
+  and_with(kept, g.target);
+  const std::vector<std::uint32_t> rest_words = words_of(rest), kept_words = words_of(kept);
+  FirstCounts out;
+  for (int inside = 0; inside < 2; ++inside)
+    for (std::size_t l = 0; l < g.cells.columns.size(); ++l) {
+      const Term t{static_cast<int>(l), inside == 1};
+      out.removed[inside].push_back(off_side(g.cells, t, rest, rest_words));
+      out.lost[inside].push_back(off_side(g.cells, t, kept, kept_words));
+    }
+  return out;
+}
+
 // The largest product about the seed that holds no forbidden sample (but what its holes take
 // away); nullopt-like empty product with `ok` false when some cannot be separated.
 bool grow(const Growth& g, std::size_t seed, const Column& region, Candidate& out) {
@@ -220,8 +257,12 @@ bool grow(const Growth& g, std::size_t seed, const Column& region, Candidate& ou
   c.covered = region;
   Column rest = g.forbidden;
   and_with(rest, region);
+  // What each term takes out at the first step (the most it ever takes out).
+  std::vector<double> removed(g.cells.columns.size(), std::numeric_limits<double>::infinity());
+  if (g.first)
+    for (std::size_t l = 0; l < removed.size(); ++l) removed[l] = g.first->removed[bit(g.cells.columns[l], seed)][l];
   for (int step = 0; step < kMostTerms && g.weigh.of(rest) > 0; ++step)
-    if (!grow_step(g, seed, c, rest)) break;
+    if (!grow_step(g, seed, c, rest, removed)) break;
   expand(g, c);
   const double wrong = g.weigh.of(left_over(g, c));
   Column kept = c.covered;
@@ -255,11 +296,17 @@ void grow_all(const Growth& g, const Column& among, const Column& region, Clock:
               std::vector<Candidate>& out) {
   Column taken(among.size(), 0);
   std::size_t attempts = 0;
+  const FirstCounts first = first_counts(g, region);
+  Growth counted = g;
+  counted.first = &first;
+  std::size_t words = 0;
+  counted.words_counted = &words;
   for (std::size_t seed : seeds_in(g.cells, among)) {
     if (bit(taken, seed)) continue;
     if (Clock::now() > deadline || out.size() >= kMostCandidates || ++attempts > kMostGrowths) break;
+    if (words > kMostWordsCounted) break;
     Candidate c;
-    if (!grow(g, seed, region, c)) {
+    if (!grow(counted, seed, region, c)) {
       taken[seed / 64] |= 1ULL << (seed % 64);
       continue;
     }
@@ -278,6 +325,21 @@ Product envelope_of(const Cells& cells, const Weigher& weigh, const Column& soli
       const Column s = side(cells, {static_cast<int>(l), inside});
       if (weigh.first_only(solid, s) == 0 && weigh.first_only(empty, s) > 0) e.push_back({static_cast<int>(l), inside});
     }
+  // Only the sides that cut off something the others keep: the faces of a chamfer made of many
+  // facets each hold the solid, and one of them, or the box, says it all. Curved and turned
+  // sides go first, the model axes' planes (one box) last.
+  const auto rank = [&](const Term& t) {
+    const Literal& l = (*cells.literals)[static_cast<std::size_t>(t.literal)];
+    return !l.plane ? 0 : (model_axis(l.normal) < 0 ? 1 : 2);
+  };
+  std::stable_sort(e.begin(), e.end(), [&](const Term& a, const Term& b) { return rank(a) < rank(b); });
+  const double outside = weigh.first_only(empty, coverage(e, cells));
+  for (std::size_t k = 0; k < e.size();) {
+    Product without = e;
+    without.erase(without.begin() + static_cast<long>(k));
+    if (weigh.first_only(empty, coverage(without, cells)) >= outside) e = std::move(without);
+    else ++k;
+  }
   return e;
 }
 

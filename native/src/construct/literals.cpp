@@ -125,7 +125,9 @@ bool same(const Literal& a, const Literal& b, double tol) {
     return std::abs(std::abs(d) - 1) < 1e-9 && std::abs(a.offset - (d > 0 ? b.offset : -b.offset)) <= tol;
   }
   const Primitive3D &p = a.solid, &q = b.solid;
-  if (p.kind != q.kind || norm(sub({p.cx, p.cy, p.cz}, {q.cx, q.cy, q.cz})) > tol) return false;
+  if (p.kind != q.kind || p.sides != q.sides ||
+      norm(sub({p.cx, p.cy, p.cz}, {q.cx, q.cy, q.cz})) > tol)
+    return false;
   for (int k = 0; k < 3; ++k)
     if (std::abs(p.dims[k] - q.dims[k]) > tol) return false;
   const Mat3 m = p.rotation.matrix(), n = q.rotation.matrix();

@@ -21,6 +21,10 @@ constexpr double kUnseparatedShare = 0.002;
 /// growth too), so that a part of thousands of cells stays quick.
 constexpr std::size_t kMostCandidates = 400;
 constexpr std::size_t kMostGrowths = 800;
+/// And most words of samples counted per kind (the bound a literal's count is charged; about
+/// half a minute of counting on one core, more than a 600-literal CAD part asks for): a budget
+/// that, unlike the clock, gives the same tree on every machine.
+constexpr std::size_t kMostWordsCounted = 8000000000;
 /// The price of a term to a growth, as a share of the solid's weight: small, since keeping
 /// samples matters more than a short product; a curved term costs five planes' worth.
 constexpr double kLiteralPrice = 0.002;
