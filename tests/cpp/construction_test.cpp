@@ -164,5 +164,21 @@ TEST_F(Construction3D, TheMeshFitIsTheConstructionWhenItExplainsTheMesh) {
   EXPECT_GT(iou_against(mesh, fit.fit.tree, 128), 0.995);
 }
 
+// A ball bored along three axes reaches past the mesh's own box (the bores took its poles):
+// measured on a grid that holds the tree, it explains the mesh as its program's four.
+TEST_F(Construction3D, ABallBoredAlongThreeAxesIsBuiltAsItsFourPrimitives) {
+  const TriangleMesh mesh = openscad_mesh(
+      "difference() { sphere(r = 15, $fn = 64); cylinder(r = 5, h = 40, center = true, $fn = 48);"
+      " rotate([90, 0, 0]) cylinder(r = 5, h = 40, center = true, $fn = 48);"
+      " rotate([0, 90, 0]) cylinder(r = 5, h = 40, center = true, $fn = 48); }");
+  FitOptions3D o;
+  o.time_limit = 30;
+  const MeshFitResult fit = fit_mesh(mesh, o);
+  EXPECT_EQ(fit.fit.stats.stop_reason, "constructed");
+  EXPECT_EQ(fit.fit.tree.primitive_count(), 4u);
+  EXPECT_GT(fit.fit.stats.iou, 0.98);
+  EXPECT_GT(iou_against(mesh, fit.fit.tree, 96), 0.98);
+}
+
 }  // namespace
 }  // namespace csgfit

@@ -15,6 +15,22 @@ VoxelGrid render(const Node3D& root, const VoxelGrid& frame) {
   return out;
 }
 
+Bounds3 tree_bounds(const Node3D& n) {
+  if (n.kind == NodeKind::Primitive) return n.primitive.bounds();
+  if (n.children.empty()) return Bounds3{};
+  Bounds3 b = tree_bounds(n.children.front());
+  if (n.kind == NodeKind::Difference) return b;
+  for (std::size_t c = 1; c < n.children.size(); ++c) {
+    const Bounds3 e = tree_bounds(n.children[c]);
+    for (int a = 0; a < 3; ++a) {
+      const bool hull = n.kind == NodeKind::Union;
+      b.lo[a] = hull ? std::min(b.lo[a], e.lo[a]) : std::max(b.lo[a], e.lo[a]);
+      b.hi[a] = hull ? std::max(b.hi[a], e.hi[a]) : std::min(b.hi[a], e.hi[a]);
+    }
+  }
+  return b;
+}
+
 bool contains(const Node3D& n, double x, double y, double z) {
   if (n.is_leaf()) return n.primitive.contains(x, y, z);
   if (n.children.empty()) return false;

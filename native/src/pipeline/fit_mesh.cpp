@@ -192,7 +192,7 @@ PolishGrids polish_grids(const TriangleMesh& local, const VoxelGrid& coarse,
   // staggered centres stay a tenth of a voxel off such faces, and no sheet thicker than 0.6
   // voxel hides between the two lattices' rows.
   VoxelizeOptions sopt = g.on_fine ? fopt : coarse_options;
-  sopt.lattice_shift = 0.6;
+  sopt.lattice_shift = kStaggeredShift;
   g.staggered = voxelize(local, sopt);
   return g;
 }
@@ -330,13 +330,12 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
   FitOptions3D search = options;
   search.optimize_tree = false;  // here, after the polish below
   if (mesh_options.construct) {
-    const PolishGrids grids = polish_grids(local.mesh, coarse, vopt, polish_fine ? h.fine : 0);
-    const VoxelGrid& grid = grids.grid(coarse);
-    ConstructedFit built = construct_mesh_fit(local.mesh, grid, grids.staggered, options,
-                                              at_fraction(start, options.time_limit, kConstructShare));
+    ConstructedFit built = construct_mesh_fit(local.mesh, polish_fine ? h.fine : coarse.voxel_size(), vopt.margin,
+                                              options, at_fraction(start, options.time_limit, kConstructShare));
     if (built.explains) {
       out.fit = std::move(built.fit);
-      out.grid = grid;
+      out.grid = std::move(built.grid);
+      const VoxelGrid& grid = out.grid;
       if (options.optimize_tree)
         optimize_last(out.fit.tree, out.fit.stats, options.seed,
                       [&](const Node3D& a, const Node3D& b) { return render(a, grid) == render(b, grid); });

@@ -6,39 +6,35 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
-/* [Cone 1] */
-cone_1_cx = 0.006; // [-50:0.01:50]
-cone_1_cy = -0.0017; // [-50:0.01:50]
-cone_1_cz = 0; // [-50:0.01:50]
-cone_1_rot_x = 0.021453; // [-180:0.1:180]
-cone_1_rot_y = 179.919014; // [-180:0.1:180]
-cone_1_r1 = 0.3757; // [0:0.01:50]
-cone_1_r2 = 10.4042; // [0:0.01:50]
-cone_1_h = 10.0018; // [0:0.01:50]
+/* [Cylinder 1] */
+cyl_1_cx = -0.0008; // [-50:0.01:50]
+cyl_1_cy = 0; // [-50:0.01:50]
+cyl_1_cz = 0; // [-50:0.01:50]
+cyl_1_r = 0.4196; // [0:0.01:50]
+cyl_1_h = 10; // [0:0.01:50]
 
-/* [Cylinder 2] */
-cyl_2_cx = -0.0008; // [-50:0.01:50]
-cyl_2_cy = 0; // [-50:0.01:50]
-cyl_2_cz = 0; // [-50:0.01:50]
-cyl_2_r = 0.4196; // [0:0.01:50]
-cyl_2_h = 10; // [0:0.01:50]
+/* [Cone 2] */
+cone_2_cx = 0.0766; // [-50:0.01:50]
+cone_2_cy = -0.0349; // [-50:0.01:50]
+cone_2_cz = -0.0015; // [-50:0.01:50]
+cone_2_rot_x = 0.421836; // [-180:0.1:180]
+cone_2_rot_y = 0.935381; // [-180:0.1:180]
+cone_2_r1 = 0.2043; // [0:0.01:50]
+cone_2_r2 = 9.9033; // [0:0.01:50]
+cone_2_h = 10.0223; // [0:0.01:50]
 
-/* [Cone 3] */
-cone_3_cx = 0.0766; // [-50:0.01:50]
-cone_3_cy = -0.0349; // [-50:0.01:50]
-cone_3_cz = -0.0015; // [-50:0.01:50]
-cone_3_rot_x = 0.421836; // [-180:0.1:180]
-cone_3_rot_y = 0.935381; // [-180:0.1:180]
-cone_3_r1 = 0.2023; // [0:0.01:50]
-cone_3_r2 = 10.4812; // [0:0.01:50]
-cone_3_h = 10.0223; // [0:0.01:50]
+/* [Cylinder 3] */
+cyl_3_cx = -0.0008; // [-50:0.01:50]
+cyl_3_cy = 0; // [-50:0.01:50]
+cyl_3_cz = -0.1218; // [-50:0.01:50]
+cyl_3_r = 0.2583; // [0:0.01:50]
+cyl_3_h = 9.7565; // [0:0.01:50]
 
-/* [Cylinder 4] */
-cyl_4_cx = -0.0008; // [-50:0.01:50]
-cyl_4_cy = 0; // [-50:0.01:50]
-cyl_4_cz = -0.1218; // [-50:0.01:50]
-cyl_4_r = 0.2583; // [0:0.01:50]
-cyl_4_h = 9.7565; // [0:0.01:50]
+/* [Sphere 4] */
+sphere_4_cx = -0.0008; // [-50:0.01:50]
+sphere_4_cy = 0; // [-50:0.01:50]
+sphere_4_cz = 4.5794; // [-50:0.01:50]
+sphere_4_r = 0.5644; // [0:0.01:50]
 
 /* [Box 5] */
 box_5_cx = 0; // [-50:0.01:50]
@@ -65,15 +61,27 @@ $fn = segments;
 // this radius gives the polygon the fitted circle's area instead.
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
+// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with their
+// vertices on the sphere: a stack of frusta. fn_sphere_volume is that polyhedron's
+// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the fitted sphere's volume.
+function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :
+  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),
+      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))
+  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);
+function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
+  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
+
 module csg_high_res() {
   difference() {
     intersection() {
-      translate([cone_1_cx, cone_1_cy, cone_1_cz]) rotate([cone_1_rot_x, cone_1_rot_y, 0]) cylinder(h = cone_1_h, r1 = fn_r(cone_1_r1), r2 = fn_r(cone_1_r2), center = true);
-      translate([cyl_2_cx, cyl_2_cy, cyl_2_cz]) cylinder(h = cyl_2_h, r = fn_r(cyl_2_r), center = true);
-      translate([cone_3_cx, cone_3_cy, cone_3_cz]) rotate([cone_3_rot_x, cone_3_rot_y, 0]) cylinder(h = cone_3_h, r1 = fn_r(cone_3_r1), r2 = fn_r(cone_3_r2), center = true);
+      translate([cyl_1_cx, cyl_1_cy, cyl_1_cz]) cylinder(h = cyl_1_h, r = fn_r(cyl_1_r), center = true);
+      translate([cone_2_cx, cone_2_cy, cone_2_cz]) rotate([cone_2_rot_x, cone_2_rot_y, 0]) cylinder(h = cone_2_h, r1 = fn_r(cone_2_r1), r2 = fn_r(cone_2_r2), center = true);
       union() {
-        translate([cyl_4_cx, cyl_4_cy, cyl_4_cz]) cylinder(h = cyl_4_h, r = fn_r(cyl_4_r), center = true);
-        translate([box_5_cx, box_5_cy, box_5_cz]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
+        translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
+        intersection() {
+          translate([sphere_4_cx, sphere_4_cy, sphere_4_cz]) sphere(r = fn_sr(sphere_4_r));
+          translate([box_5_cx, box_5_cy, box_5_cz]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
+        }
       }
     }
     translate([cyl_6_cx, cyl_6_cy, cyl_6_cz]) rotate([cyl_6_rot_x, 0, cyl_6_rot_z]) cylinder(h = cyl_6_h, r = cyl_6_r, center = true, $fn = cyl_6_sides);

@@ -17,6 +17,11 @@ using Node3D = CsgNode<Primitive3D>;
 /// TreeEvaluator3D.
 VoxelGrid render(const Node3D& root, const VoxelGrid& frame);
 
+/// A box that holds the tree's solid: its primitives' boxes combined as the tree combines them
+/// (union: their hull; intersection: their overlap; difference: its first child's). Empty
+/// (lo > hi on some axis) when an intersection's boxes do not meet.
+Bounds3 tree_bounds(const Node3D& root);
+
 /// Whether the point is inside the tree (pointwise, from Primitive3D::contains).
 bool contains(const Node3D& root, double x, double y, double z);
 
