@@ -107,6 +107,11 @@ class MeshToCsgPanel(FitPanel):
             1e9, "Penalty per primitive in voxels: higher gives smaller trees",
             [(name, name != "torus", name != "box") for name in PRIMITIVES_3D])
         self.primitive_checks["box"].setToolTip("The 3D fit always uses boxes")
+        self.construct = QtWidgets.QCheckBox("Build from the mesh's faces first")
+        self.construct.setChecked(True)
+        self.construct.setToolTip("Read the mesh's planes, cylinders, cones, spheres and tori and "
+                                  "build the tree from them; off: search the voxels only")
+        grid.addRow("Construction", self.construct)
 
     def _add_views(self, layout):
         self.show_3d = QtWidgets.QCheckBox("Show the fitted tree in the 3D view")
@@ -150,7 +155,8 @@ class MeshToCsgPanel(FitPanel):
     def options(self):
         """The fit_mesh keyword arguments the form describes."""
         return dict(self.search_options(),
-                    resolution=MESH_QUALITIES[self.quality.currentIndex()][1])
+                    resolution=MESH_QUALITIES[self.quality.currentIndex()][1],
+                    construct=self.construct.isChecked())
 
     def source_name(self):
         """The mesh object's label, or the file's stem."""

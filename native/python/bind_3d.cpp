@@ -128,16 +128,16 @@ void bind_3d(py::module_& m) {
   def_fit3d(
       m, "fit_mesh_arrays",
       [](const F64Array& vertices, const I64Array& triangles, int resolution, double voxel_size,
-         double k, const std::string& primitives, double time, int threads, std::uint64_t seed,
+         bool construct, double k, const std::string& primitives, double time, int threads, std::uint64_t seed,
          const py::object& progress, const CancelToken* cancel, const std::string& source) {
-        const csgfit::MeshFitOptions mesh_options = mesh_fit_options(resolution, voxel_size);
+        const csgfit::MeshFitOptions mesh_options = mesh_fit_options(resolution, voxel_size, construct);
         const csgfit::Input3D input = input_from_mesh(mesh_from_arrays(vertices, triangles));
         return run_fit3d(input, SearchArgs{k, primitives, time, threads, seed}, mesh_options,
                          progress, cancel, source);
       },
       "Fits a 3D CSG tree to a mesh as `csgfit mesh` does (GIL released while solving).",
       py::arg("vertices"), py::arg("triangles"), py::arg("resolution") = 0,
-      py::arg("voxel_size") = 0.0);
+      py::arg("voxel_size") = 0.0, py::arg("construct") = true);
   def_fit3d(
       m, "fit_voxels",
       [](const U8Array& voxels, const std::vector<double>& origin, double voxel_size, double k,
@@ -153,16 +153,17 @@ void bind_3d(py::module_& m) {
       py::arg("voxel_size") = 1.0);
   def_fit3d(
       m, "fit_file",
-      [](const std::string& path, int resolution, double voxel_size, double k,
+      [](const std::string& path, int resolution, double voxel_size, bool construct, double k,
          const std::string& primitives, double time, int threads, std::uint64_t seed,
          const py::object& progress, const CancelToken* cancel, const std::string& source) {
-        const csgfit::MeshFitOptions mesh_options = mesh_fit_options(resolution, voxel_size);
+        const csgfit::MeshFitOptions mesh_options = mesh_fit_options(resolution, voxel_size, construct);
         const csgfit::Input3D input = without_gil([&] { return csgfit::read_input3d(path); });
         return run_fit3d(input, SearchArgs{k, primitives, time, threads, seed}, mesh_options,
                          progress, cancel, source);
       },
       "Fits a mesh (.stl, .obj, .off, .ply) or a voxel grid (.npy, .binvox, fitted as it is).",
-      py::arg("path"), py::arg("resolution") = 0, py::arg("voxel_size") = 0.0);
+      py::arg("path"), py::arg("resolution") = 0, py::arg("voxel_size") = 0.0,
+      py::arg("construct") = true);
 }
 
 }  // namespace csgfit_python

@@ -86,7 +86,7 @@ csgfit::FitOptions3D fit_options_3d(const SearchArgs& args) {
   return options;
 }
 
-csgfit::MeshFitOptions mesh_fit_options(int resolution, double voxel_size) {
+csgfit::MeshFitOptions mesh_fit_options(int resolution, double voxel_size, bool construct) {
   if (resolution < 0 || resolution > 512)
     throw csgfit::InputError("resolution must be 0 (auto) .. 512");
   if (!std::isfinite(voxel_size) || voxel_size < 0)
@@ -94,6 +94,7 @@ csgfit::MeshFitOptions mesh_fit_options(int resolution, double voxel_size) {
   csgfit::MeshFitOptions options;
   options.resolution = resolution;
   options.voxel_size = voxel_size;
+  options.construct = construct;
   return options;
 }
 

@@ -28,7 +28,7 @@ csgfit::FitOptions fit_options(const SearchArgs& args, int alternatives,
 csgfit::FitOptions3D fit_options_3d(const SearchArgs& args);
 /// resolution: voxels along the longest side (0 = auto); voxel_size: the search grid's edge
 /// instead (0 = from the resolution).
-csgfit::MeshFitOptions mesh_fit_options(int resolution, double voxel_size);
+csgfit::MeshFitOptions mesh_fit_options(int resolution, double voxel_size, bool construct = true);
 
 /// Throws InputError unless v is a finite number > 0 (>= 0 when zero_ok).
 void check_length(const char* name, double v, bool zero_ok = false);

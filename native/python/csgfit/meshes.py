@@ -72,7 +72,7 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
              threads: int = 0, seed: int = 1, k: Optional[float] = None,
              primitives: Union[None, str, Sequence[str]] = None,
              progress: Optional[Callable[[FitProgress], Optional[bool]]] = None,
-             cancel: Optional[CancelToken] = None) -> FitResult3D:
+             cancel: Optional[CancelToken] = None, construct: bool = True) -> FitResult3D:
     """Fits a 3D CSG tree to a mesh or a voxel file, as `csgfit mesh` does.
 
     mesh: a path (STL, OBJ, OFF, PLY; or .npy / .binvox voxel grids, fitted as they are) or a
@@ -87,6 +87,9 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
         required. Default: all but the torus.
     progress / cancel: as for fit_image (cancel stops the fit within a fraction of a second and
         returns the best tree so far, stats.stop_reason == "cancelled").
+    construct: build the tree from the mesh's faces first (stats.stop_reason ==
+        "constructed" when they explain the mesh); False searches from the voxels only, as
+        `csgfit mesh --no-construct`.
 
     The GIL is released while reading, voxelising and solving. Raises InputError (a
     ValueError) for bad input: unreadable files, wrong array shapes, NaN, indices out of
@@ -95,7 +98,7 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
     import numpy as np
 
     search = _search(k, primitives, time, threads, seed, progress, cancel)
-    grid = _grid(resolution, voxel_size)
+    grid = dict(_grid(resolution, voxel_size), construct=bool(construct))
     if isinstance(mesh, (str, bytes, os.PathLike)):
         path = os.fsdecode(mesh)
         return FitResult3D(_csgfit.fit_file(path, source=os.path.basename(path), **grid,
