@@ -83,7 +83,6 @@ PrimitiveSet3D PrimitiveSet3D::all() {
   PrimitiveSet3D s;
   for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::TriangularPrism); ++i)
     s.add(static_cast<PrimitiveKind3D>(i));
-  s.add(PrimitiveKind3D::RoundedBox);
   return s;
 }
 
@@ -95,7 +94,6 @@ PrimitiveSet3D analytic_kinds(PrimitiveSet3D set) {
 PrimitiveSet3D PrimitiveSet3D::matchable() {
   PrimitiveSet3D s = all();
   s.bits &= ~(1u << static_cast<unsigned>(PrimitiveKind3D::Torus));
-  s.bits &= ~(1u << static_cast<unsigned>(PrimitiveKind3D::RoundedBox));
   return s;
 }
 

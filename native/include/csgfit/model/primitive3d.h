@@ -151,7 +151,9 @@ struct Primitive3D {
 /// Which 3D primitive kinds the matcher and the search may use.
 struct PrimitiveSet3D {
   unsigned bits = 0;
-  /// Every analytic kind (all but the NURBS terminal, which only `csgfit points` fits).
+  /// What "all" names: every analytic kind but the rounded box (and not the NURBS terminal,
+  /// which only `csgfit points` fits). The rounded box is named on its own: the searches draw
+  /// from this set, and a fit asked for "all" stays the fit it was before the rounded box.
   static PrimitiveSet3D all();
   /// The kinds seed 003 matches by moments: box, sphere, cylinder, cone, ellipsoid, prism (not
   /// the torus, nor the rounded box: moments do not tell its corner from its sizes).
