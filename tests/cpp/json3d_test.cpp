@@ -31,7 +31,9 @@ Node3D every_kind() {
                   {Node3D::leaf(Primitive3D::cone(0, 1, -2, 0, 1.3, 2.2, tilt)),
                    Node3D::leaf(Primitive3D::prism(0.5, -0.5, 1, 3, 2, 1.5, 0.6, tilt))}),
        Node3D::leaf(polygonal(Primitive3D::cylinder(1, 0, 0, 1.2, 3.5, tilt), 6)),
-       Node3D::leaf(polygonal(Primitive3D::cone(0, 1, 2, 1.4, 0.3, 2.2, tilt), 1000))});
+       Node3D::leaf(polygonal(Primitive3D::cone(0, 1, 2, 1.4, 0.3, 2.2, tilt), 1000)),
+       Node3D::leaf(Primitive3D::rounded_box(1, 2, 3, 4.1, 2.3, 1.7, 0.37, tilt)),
+       Node3D::leaf(Primitive3D::rounded_box(-1, 0, 0.5, 3, 0.7, 1.1, 0.35, tilt))});
 }
 
 TEST(Json3D, WhatIsWrittenReadsBackAsTheSameTree) {
@@ -56,6 +58,7 @@ TEST(Json3D, WhatIsWrittenReadsBackAsTheSameTree) {
     for (int d = 0; d < 3; ++d) EXPECT_DOUBLE_EQ(a[i]->dims[d], b[i]->dims[d]) << i;
     EXPECT_DOUBLE_EQ(a[i]->apex, b[i]->apex);
     EXPECT_EQ(a[i]->sides, b[i]->sides) << i;
+    EXPECT_DOUBLE_EQ(a[i]->corner, b[i]->corner) << i;
     EXPECT_NEAR(a[i]->rotation.w, b[i]->rotation.w, 1e-15);
     EXPECT_NEAR(a[i]->rotation.x, b[i]->rotation.x, 1e-15);
     EXPECT_NEAR(a[i]->rotation.z, b[i]->rotation.z, 1e-15);
@@ -109,6 +112,43 @@ TEST(Json3D, SidesAreWrittenWhenPolygonalAndCheckedWhenRead) {
     } catch (const InputError& e) {
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
       EXPECT_NE(std::string(e.what()).find("sides"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A rounded box is "size" and "corner" (and never "sides"); the corner is read back only in
+// (0, min(sx, sy) / 2], a stadium's as written in decimal included.
+TEST(Json3D, ARoundedBoxsCornerIsWrittenAndCheckedWhenRead) {
+  FitResult3D result;
+  result.tree = every_kind();
+  const std::string text = to_json3d(result, VoxelGrid(4, 4, 4, 0, 0, 0, 1), "part.stl");
+  EXPECT_NE(text.find("\"type\": \"rounded_box\""), std::string::npos);
+  EXPECT_NE(text.find("\"corner\": 0.37"), std::string::npos);
+  EXPECT_EQ(text.find("\"corner\": 0,"), std::string::npos) << "no corner on other kinds";
+  const std::string head =
+      R"({"schema": "csgfit/1", "dimension": 3, "units": "mm", "tree": {"type": )";
+  const std::string rounded = R"("rounded-box", "center": [0, 0, 0], "size": [20, 10, 4], )";
+  const Primitive3D p = from_json3d(head + rounded + R"("corner": 3}})").primitive;
+  EXPECT_EQ(p.kind, PrimitiveKind3D::RoundedBox);
+  EXPECT_EQ(p.corner, 3);
+  EXPECT_EQ(from_json3d(head + rounded + R"("corner": 5}})").primitive.corner, 5);
+  // A stadium's 1/3 written with 17 digits, a hair over the bound.
+  const std::string thin = R"("rounded_box", "center": [0, 0, 0], "size": [0.66666666666666674, 1, 1], )";
+  EXPECT_DOUBLE_EQ(from_json3d(head + thin + R"("corner": 0.33333333333333343}})").primitive.corner,
+                   0.66666666666666674 / 2);
+  for (const std::string& tree :
+       {rounded + R"("corner": 0})", rounded + R"("corner": -1})", rounded + R"("corner": 5.01})",
+        rounded + R"("corner": "3"})", rounded + R"("corner": null})", rounded + R"("h": 4})",
+        std::string(R"("box", "center": [0, 0, 0], "size": [1, 1, 1], "corner": 0.2})"),
+        rounded + R"("corner": 3, "sides": 8})"}) {
+    try {
+      from_json3d(head + tree + "}");
+      ADD_FAILURE() << "accepted " << tree;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.find('\n'), std::string::npos);
+      EXPECT_TRUE(what.find("corner") != std::string::npos || what.find("sides") != std::string::npos)
+          << what;
     }
   }
 }
