@@ -44,6 +44,7 @@ class Writer : public TreeWriter<Writer, Node3D> {
   bool uses_spheres() const { return spheres_; }
   bool uses_circles() const { return circles_; }
   bool uses_tori() const { return tori_; }
+  bool uses_corners() const { return corners_; }
   /// Modules the body calls (one polyhedron per NURBS terminal) and the header lines saying
   /// how far each strays from its exact patch.
   const std::string& modules() const { return modules_; }
@@ -62,6 +63,7 @@ class Writer : public TreeWriter<Writer, Node3D> {
       case PrimitiveKind3D::Torus: return "tori";
       case PrimitiveKind3D::TriangularPrism: return "prisms";
       case PrimitiveKind3D::Nurbs: return "NURBS patches";
+      case PrimitiveKind3D::RoundedBox: return "rounded boxes";
     }
     return "primitives";
   }
@@ -159,11 +161,13 @@ class Writer : public TreeWriter<Writer, Node3D> {
   double extent_;
   const std::vector<Turn>* turns_ = nullptr;
   bool at_b_ = false;
-  bool spheres_ = false, circles_ = false, tori_ = false;
+  bool spheres_ = false, circles_ = false, tori_ = false, corners_ = false;
   std::string modules_;
   std::vector<std::string> notes_;
 
   std::string nurbs(const Primitive3D& p, const std::string& prefix, const std::string& what);
+  std::string rounded_box(Tab& tab, const Primitive3D& p, const std::string& prefix,
+                          const std::string& what);
 };
 
 std::string Writer::primitive(const Primitive3D& p) {
@@ -180,6 +184,7 @@ std::string Writer::primitive(const Primitive3D& p) {
     case PrimitiveKind3D::Torus: prefix = "torus_", title = "Torus "; break;
     case PrimitiveKind3D::TriangularPrism: prefix = "prism_", title = "Prism "; break;
     case PrimitiveKind3D::Nurbs: prefix = "nurbs_", title = "NURBS patch "; break;
+    case PrimitiveKind3D::RoundedBox: prefix = "rbox_", title = "Rounded box "; break;
   }
   prefix += num;
   title += num;
@@ -259,9 +264,29 @@ std::string Writer::primitive(const Primitive3D& p) {
       break;
     }
     case PrimitiveKind3D::Nurbs: code += nurbs(p, prefix, what); break;
+    case PrimitiveKind3D::RoundedBox: code += rounded_box(tab, p, prefix, what); break;
   }
   if (!tab.vars.empty()) tabs_.push_back(std::move(tab));
   return code;
+}
+
+// As designers draw it: the rectangle of the corner centres grown by offset(r). The corner is
+// drawn with the radius fn_corner gives it, so that its polygon keeps the fitted area and the
+// flats stay on the fitted faces (the square shrinks as the radius grows).
+std::string Writer::rounded_box(Tab& tab, const Primitive3D& p, const std::string& prefix,
+                                const std::string& what) {
+  const Vec3& s = p.dims;
+  const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
+  const std::string b = length(tab, prefix, "size_y", check_size(s[1], "size y", what));
+  const std::string c = length(tab, prefix, "size_z", check_size(s[2], "size z", what));
+  check_size(p.corner, "corner", what);
+  if (p.corner > std::min(s[0], s[1]) / 2 * (1 + 1e-12))
+    throw InputError("cannot write .scad: " + what + " has a corner over half its smaller side");
+  const std::string r = "fn_corner(" + length(tab, prefix, "corner", p.corner) + ")";
+  corners_ = true;
+  return "linear_extrude(height = " + c + ", center = true) offset(r = " + r +
+         ", $fn = corner_fn) square([" + a + " - 2 * " + r + ", " + b + " - 2 * " + r +
+         "], center = true);";
 }
 
 // The patch's polyhedron within 1e-4 of its size (about 0.005 mm on a 60 mm die), as a module
@@ -285,6 +310,21 @@ std::string Writer::nurbs(const Primitive3D& p, const std::string& prefix, const
 }  // namespace
 
 namespace {
+
+// offset(r) rounds each of a square's corners with round($fn / 4) segments, vertices on the
+// circle, the first and last on the square's edge normals (Clipper's round joins): with $fn a
+// multiple of 4 each corner is a quarter of the circle's $fn-gon (else the count rounds a
+// half either way). The quarter's area is then (corner_fn / 8) sin(360 / corner_fn) r^2, and
+// the section's sx sy - (4 - corner_fn / 2 sin(360 / corner_fn)) r^2; fn_corner gives the
+// radius that makes it the fitted sx sy - (4 - pi) corner^2. Whatever the file's circle fit:
+// at the fitted radius a stadium's square would have no width, and OpenSCAD draws nothing.
+void write_corner_radius(std::ostream& out) {
+  out << "// Rounded boxes: offset(r) draws each corner as a quarter of a corner_fn-gon with its\n"
+         "// vertices on the circle; fn_corner gives the radius whose corners keep the fitted "
+         "area.\n";
+  out << "corner_fn = 4 * ceil(segments / 4);\n";
+  out << "function fn_corner(r) = r * sqrt((4 - PI) / (4 - corner_fn / 2 * sin(360 / corner_fn)));\n";
+}
 
 double model_extent(const Node3D& tree) {
   double extent = 0;
@@ -356,7 +396,9 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
     write_tabs(out, writer.tabs());
   }
   out << "/* [Hidden] */\n";
-  out << "$fn = segments;\n\n";
+  out << "$fn = segments;\n";
+  if (writer.uses_corners()) write_corner_radius(out);
+  out << "\n";
   if (morph_b) write_morph_values(out, writer.tabs(), tabs_b);
   if (writer.uses_circles()) write_circle_radius(out, options.circle_fit);
   if (writer.uses_spheres()) {

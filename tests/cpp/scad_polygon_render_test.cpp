@@ -2,7 +2,8 @@
 // rendered solid (its STL read back, its volume by the divergence theorem, its inside by the
 // winding number) has Primitive3D::volume() and agrees with contains() at points, among them
 // points just inside a vertex and just outside an edge's middle, which a circle, an area-keeping
-// radius or a lost turn about the axis would get wrong. Skipped when openscad is not installed.
+// radius or a lost turn about the axis would get wrong; and so does a rounded box, whose
+// corners OpenSCAD's offset() draws as polygons. Skipped when openscad is not installed.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -93,6 +94,57 @@ TEST_F(ScadPolygonRender, RenderedSolidHasThePrimitivesVolumeAndPoints) {
     EXPECT_NEAR(std::fabs(signed_volume(mesh)), p.volume(), 1e-4 * p.volume()) << name;
     int disagree = 0;
     for (const Vec3& q : probe_points(p))
+      disagree += (winding_number(mesh, q) > 0.5) != p.contains(q[0], q[1], q[2]);
+    EXPECT_EQ(disagree, 0) << name;
+  }
+}
+
+// Points where a rounded box and its rendering must agree: just inside each flat's middle and
+// each arc's middle, just outside each arc's middle and inside the corner of the box it rounds,
+// at mid-height and near the ends; then random points off the surface.
+std::vector<Vec3> rounded_box_probes(const Primitive3D& p) {
+  std::vector<Vec3> out;
+  const double a = p.dims[0] / 2, b = p.dims[1] / 2, h = p.dims[2] / 2, r = p.corner;
+  const double diagonal = 1 / std::sqrt(2.0);
+  for (double z : {0.0, 0.9 * h, -0.9 * h}) {
+    for (double sx : {-1.0, 1.0}) {
+      out.push_back(model_point(p, {sx * 0.97 * a, 0, z}));
+      out.push_back(model_point(p, {0, sx * 0.97 * b, z}));
+      for (double sy : {-1.0, 1.0}) {
+        const double cx = sx * (a - r), cy = sy * (b - r);
+        for (double reach : {0.97 * r, 1.03 * r})
+          out.push_back(model_point(p, {cx + sx * reach * diagonal, cy + sy * reach * diagonal, z}));
+        out.push_back(model_point(p, {sx * (a - 0.1 * r), sy * (b - 0.1 * r), z}));
+      }
+    }
+  }
+  const Bounds3 bounds = p.bounds();
+  const double size = std::max({p.dims[0], p.dims[1], p.dims[2]});
+  std::mt19937_64 rng(13);
+  while (out.size() < 250) {
+    Vec3 q;
+    for (int i = 0; i < 3; ++i)
+      q[i] = std::uniform_real_distribution<double>(bounds.lo[i] - 1, bounds.hi[i] + 1)(rng);
+    if (std::fabs(p.signed_distance(q[0], q[1], q[2])) > 0.01 * size) out.push_back(q);
+  }
+  return out;
+}
+
+TEST_F(ScadPolygonRender, RenderedRoundedBoxHasItsVolumeAndPoints) {
+  const Primitive3D shapes[] = {
+      // Tilted; a stadium turned about z; a disc; a block with small corners.
+      Primitive3D::rounded_box(2, -1, 3, 20, 10, 4, 3, Quaternion::from_euler_deg(20, -30, 40)),
+      Primitive3D::rounded_box(0, 0, 0, 12, 5, 3, 2.5, Quaternion::from_axis_angle(0, 0, 1, 25)),
+      Primitive3D::rounded_box(1, 1, 1, 6, 6, 2, 3),
+      Primitive3D::rounded_box(0, 0, 0, 8, 6, 5, 0.4, Quaternion::from_euler_deg(0, 90, 7)),
+  };
+  int n = 0;
+  for (const Primitive3D& p : shapes) {
+    const std::string name = "rounded_" + std::to_string(n++);
+    const TriangleMesh mesh = rendered(p, name);
+    EXPECT_NEAR(std::fabs(signed_volume(mesh)), p.volume(), 1e-5 * p.volume()) << name;
+    int disagree = 0;
+    for (const Vec3& q : rounded_box_probes(p))
       disagree += (winding_number(mesh, q) > 0.5) != p.contains(q[0], q[1], q[2]);
     EXPECT_EQ(disagree, 0) << name;
   }

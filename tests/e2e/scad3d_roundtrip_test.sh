@@ -3,7 +3,8 @@
 # ScadWriter3DRoundTrip.DumpFilesForOpenScad writes random 3D trees (each primitive kind alone,
 # then small trees under union, difference and intersection, rotated) as .scad, with the
 # solver's own voxelisation of each as .npy (64^3 voxels of 0.5 units; the polygonal cylinder
-# and cone among them, drawn as their own $fn-gons). OpenSCAD renders each
+# and cone among them, drawn as their own $fn-gons, and the rounded box, drawn by offset()).
+# OpenSCAD renders each
 # .scad to STL; scripts/stl_voxelize.py voxelises the STL by ray parity along z at the voxel
 # centres; the two must agree on >= 99 % of the voxels in the bounding box of either shape,
 # with IoU >= 0.98. Skipped (exit 0 with a message) when openscad is not installed.
@@ -54,6 +55,6 @@ for scad in "$TMP"/tree_*.scad; do
     fail "$name: IoU $iou < $MIN_IOU"
   fi
 done
-[ "$count" -ge 14 ] || fail "expected 14 trees, found $count"
+[ "$count" -ge 16 ] || fail "expected 16 trees, found $count"
 
 e2e_finish "OK: $count 3D trees, OpenSCAD agrees with the solver's voxels on >= $MIN_AGREEMENT (IoU >= $MIN_IOU)"
