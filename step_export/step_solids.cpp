@@ -21,6 +21,7 @@
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
 #include <gp_Ax2.hxx>
+#include <gp_Circ.hxx>
 #include <gp_GTrsf.hxx>
 #include <algorithm>
 #include <cmath>
@@ -156,6 +157,35 @@ TopoDS_Shape polygonal_solid(const Primitive3D& p, const std::string& what) {
   return loft.Shape();
 }
 
+// The rounded rectangle's wire at z = -sz/2, counter-clockwise: each side a line (none where
+// a stadium's or a disc's side has no length) and each corner a quarter circle, extruded.
+TopoDS_Shape rounded_box_solid(const Primitive3D& p, const std::string& what) {
+  const double sx = positive(p.dims[0], "size x", what), sy = positive(p.dims[1], "size y", what);
+  const double h = positive(p.dims[2], "size z", what);
+  const double r = positive(p.corner, "corner", what);
+  if (r > std::min(sx, sy) / 2 * (1 + 1e-12))
+    throw InputError("cannot write STEP: " + what + " has a corner over half its smaller side");
+  const double a = sx / 2, b = sy / 2, ca = std::max(a - r, 0.0), cb = std::max(b - r, 0.0);
+  const double z = -h / 2;
+  BRepBuilderAPI_MakeWire wire;
+  // From the end of the side before each corner: (x, y) of the side's start and end, then the
+  // corner's centre and the arc's end.
+  const double sides[4][8] = {{a, -cb, a, cb, ca, cb, ca, b},
+                              {ca, b, -ca, b, -ca, cb, -a, cb},
+                              {-a, cb, -a, -cb, -ca, -cb, -ca, -b},
+                              {-ca, -b, ca, -b, ca, -cb, a, -cb}};
+  for (const auto& s : sides) {
+    const gp_Pnt from(s[0], s[1], z), to(s[2], s[3], z), end(s[6], s[7], z);
+    if (from.Distance(to) > 1e-9 * std::max(sx, sy)) wire.Add(BRepBuilderAPI_MakeEdge(from, to).Edge());
+    const gp_Circ arc(gp_Ax2(gp_Pnt(s[4], s[5], z), gp::DZ()), r);
+    wire.Add(BRepBuilderAPI_MakeEdge(arc, to, end).Edge());
+  }
+  if (!wire.IsDone()) throw InputError("cannot write STEP: " + what + ": its outline does not close");
+  BRepBuilderAPI_MakeFace face(wire.Wire(), Standard_True);
+  if (!face.IsDone()) throw InputError("cannot write STEP: " + what + ": its outline is no face");
+  return extrude(face.Face(), h);
+}
+
 }  // namespace
 
 TopoDS_Shape local_solid(const Primitive3D& p, const std::string& what) {
@@ -215,6 +245,7 @@ TopoDS_Shape local_solid(const Primitive3D& p, const std::string& what) {
                      depth);
     }
     case PrimitiveKind3D::Nurbs: return nurbs_solid(p, what);
+    case PrimitiveKind3D::RoundedBox: return rounded_box_solid(p, what);
   }
   throw InputError("cannot write STEP: unknown primitive kind");
 }
