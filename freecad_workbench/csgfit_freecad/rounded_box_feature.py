@@ -18,6 +18,8 @@ from typing import Sequence
 
 import FreeCAD as App
 
+from .feature_proxy import PropertyProxy
+
 TYPE_ID = "Part::FeaturePython"
 
 
@@ -59,39 +61,24 @@ def rounded_box_solid(length: float, width: float, height: float, radius: float)
     return solid
 
 
-#: (property type, name, tooltip) of the feature, in the property editor's order.
-PROPERTIES = (
-    ("App::PropertyLength", "Length", "Size along local x (centred)"),
-    ("App::PropertyLength", "Width", "Size along local y (centred)"),
-    ("App::PropertyLength", "Height", "Size along local z (centred)"),
-    ("App::PropertyLength", "Radius",
-     "Radius of the four edges along local z; half the smaller of Length and Width is a stadium"),
-)
-GROUP = "Rounded box"
-
-
-class RoundedBox:
+class RoundedBox(PropertyProxy):
     """Proxy of the csgfit rounded box: execute() rebuilds the solid from the properties."""
 
-    def __init__(self, obj):
-        for kind, name, tip in PROPERTIES:
-            obj.addProperty(kind, name, GROUP, tip)
-        obj.Proxy = self
+    PROPERTIES = (
+        ("App::PropertyLength", "Length", "Size along local x (centred)"),
+        ("App::PropertyLength", "Width", "Size along local y (centred)"),
+        ("App::PropertyLength", "Height", "Size along local z (centred)"),
+        ("App::PropertyLength", "Radius",
+         "Radius of the four edges along local z; half the smaller of Length and Width makes "
+         "a stadium"),
+    )
+    GROUP = "Rounded box"
 
     def execute(self, obj):
         shape = rounded_box_solid(float(obj.Length), float(obj.Width), float(obj.Height),
                                   float(obj.Radius))
         shape.Placement = obj.Placement
         obj.Shape = shape
-
-    # Everything is in the properties (see nurbs_feature.NurbsTerminal).
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    dumps, loads = __getstate__, __setstate__
 
 
 def is_rounded_box(obj) -> bool:

@@ -87,17 +87,36 @@ TEST(Json3D, TwoDimensionalAndBadDocumentsAreRefused) {
   EXPECT_THROW(from_json3d(R"({"schema": "csgfit/1", "dimension": 2, "tree": {}})"), InputError);
 }
 
+// every_kind() as the 3D document.
+std::string every_kind_text() {
+  FitResult3D result;
+  result.tree = every_kind();
+  return to_json3d(result, VoxelGrid(4, 4, 4, 0, 0, 0, 1), "part.stl");
+}
+
+// A 3D document up to its one leaf's type.
+const char* const kLeafHead =
+    R"({"schema": "csgfit/1", "dimension": 3, "units": "mm", "tree": {"type": )";
+
+// Reading `text` fails with one line that names `field`.
+void expect_refused(const std::string& text, const std::string& field) {
+  try {
+    from_json3d(text);
+    ADD_FAILURE() << "accepted " << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
 // "sides" is written for polygonal cylinders and cones only, and read back only as an integer
 // from 3 to 1000 on one of them.
 TEST(Json3D, SidesAreWrittenWhenPolygonalAndCheckedWhenRead) {
-  FitResult3D result;
-  result.tree = every_kind();
-  const std::string text = to_json3d(result, VoxelGrid(4, 4, 4, 0, 0, 0, 1), "part.stl");
+  const std::string text = every_kind_text();
   EXPECT_NE(text.find("\"sides\": 6"), std::string::npos);
   EXPECT_NE(text.find("\"sides\": 1000"), std::string::npos);
   EXPECT_EQ(text.find("\"sides\": 0"), std::string::npos);
-  const std::string head =
-      R"({"schema": "csgfit/1", "dimension": 3, "units": "mm", "tree": {"type": )";
+  const std::string head = kLeafHead;
   const std::string cylinder = R"("cylinder", "center": [0, 0, 0], "r": 1, "h": 2, "sides": )";
   const std::string cone = R"("cone", "center": [0, 0, 0], "r1": 1, "r2": 0, "h": 2, "sides": )";
   const std::string box = R"("box", "center": [0, 0, 0], "size": [1, 1, 1], "sides": )";
@@ -105,28 +124,18 @@ TEST(Json3D, SidesAreWrittenWhenPolygonalAndCheckedWhenRead) {
   EXPECT_EQ(from_json3d(head + cone + "5}}").primitive.sides, 5);
   for (const std::string& tree : {cylinder + "2}", cylinder + "1001}", cylinder + "6.5}",
                                   cylinder + "-6}", cylinder + "\"6\"}", cylinder + "null}",
-                                  box + "6}"}) {
-    try {
-      from_json3d(head + tree + "}");
-      ADD_FAILURE() << "accepted " << tree;
-    } catch (const InputError& e) {
-      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
-      EXPECT_NE(std::string(e.what()).find("sides"), std::string::npos) << e.what();
-    }
-  }
+                                  box + "6}"})
+    expect_refused(head + tree + "}", "sides");
 }
 
 // A rounded box is "size" and "corner" (and never "sides"); the corner is read back only in
 // (0, min(sx, sy) / 2], a stadium's as written in decimal included.
 TEST(Json3D, ARoundedBoxsCornerIsWrittenAndCheckedWhenRead) {
-  FitResult3D result;
-  result.tree = every_kind();
-  const std::string text = to_json3d(result, VoxelGrid(4, 4, 4, 0, 0, 0, 1), "part.stl");
+  const std::string text = every_kind_text();
   EXPECT_NE(text.find("\"type\": \"rounded_box\""), std::string::npos);
   EXPECT_NE(text.find("\"corner\": 0.37"), std::string::npos);
   EXPECT_EQ(text.find("\"corner\": 0,"), std::string::npos) << "no corner on other kinds";
-  const std::string head =
-      R"({"schema": "csgfit/1", "dimension": 3, "units": "mm", "tree": {"type": )";
+  const std::string head = kLeafHead;
   const std::string rounded = R"("rounded-box", "center": [0, 0, 0], "size": [20, 10, 4], )";
   const Primitive3D p = from_json3d(head + rounded + R"("corner": 3}})").primitive;
   EXPECT_EQ(p.kind, PrimitiveKind3D::RoundedBox);
@@ -139,18 +148,9 @@ TEST(Json3D, ARoundedBoxsCornerIsWrittenAndCheckedWhenRead) {
   for (const std::string& tree :
        {rounded + R"("corner": 0})", rounded + R"("corner": -1})", rounded + R"("corner": 5.01})",
         rounded + R"("corner": "3"})", rounded + R"("corner": null})", rounded + R"("h": 4})",
-        std::string(R"("box", "center": [0, 0, 0], "size": [1, 1, 1], "corner": 0.2})"),
-        rounded + R"("corner": 3, "sides": 8})"}) {
-    try {
-      from_json3d(head + tree + "}");
-      ADD_FAILURE() << "accepted " << tree;
-    } catch (const InputError& e) {
-      const std::string what = e.what();
-      EXPECT_EQ(what.find('\n'), std::string::npos);
-      EXPECT_TRUE(what.find("corner") != std::string::npos || what.find("sides") != std::string::npos)
-          << what;
-    }
-  }
+        std::string(R"("box", "center": [0, 0, 0], "size": [1, 1, 1], "corner": 0.2})")})
+    expect_refused(head + tree + "}", "corner");
+  expect_refused(head + rounded + R"("corner": 3, "sides": 8}})", "sides");
 }
 
 }  // namespace

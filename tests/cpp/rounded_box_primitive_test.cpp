@@ -10,6 +10,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "bounds_checks.h"
 #include "csgfit/model/primitive3d.h"
 
 namespace csgfit {
@@ -106,13 +107,7 @@ TEST(RoundedBoxPrimitive, TheCornerIsPartOfThePrimitive) {
 }
 
 TEST(RoundedBoxPrimitive, BoundsAreTheCoresPlusTheCornerCircles) {
-  auto expect_bounds = [](const Primitive3D& p, const Vec3& lo, const Vec3& hi) {
-    const Bounds3 b = p.bounds();
-    for (int a = 0; a < 3; ++a) {
-      EXPECT_NEAR(b.lo[a], lo[a], 1e-12) << "axis " << a;
-      EXPECT_NEAR(b.hi[a], hi[a], 1e-12) << "axis " << a;
-    }
-  };
+  using testing::expect_bounds;
   expect_bounds(Primitive3D::rounded_box(1, 2, 3, 20, 10, 4, 3), {-9, -3, 1}, {11, 7, 5});
   // Turned 90 degrees about x: local y becomes model z, local z model -y.
   expect_bounds(Primitive3D::rounded_box(0, 0, 0, 20, 10, 4, 3,

@@ -42,6 +42,17 @@ class ScadPolygonRender : public testing::ScratchDirTest {
     EXPECT_EQ(std::system(command.c_str()), 0) << name << ": OpenSCAD failed";
     return read_mesh(stl);
   }
+
+  // The rendering has p's volume within `relative` and agrees with contains() at `probes`.
+  void expect_rendered_as_solved(const Primitive3D& p, const std::string& name, double relative,
+                                 const std::vector<Vec3>& probes) {
+    const TriangleMesh mesh = rendered(p, name);
+    EXPECT_NEAR(std::fabs(signed_volume(mesh)), p.volume(), relative * p.volume()) << name;
+    int disagree = 0;
+    for (const Vec3& q : probes)
+      disagree += (winding_number(mesh, q) > 0.5) != p.contains(q[0], q[1], q[2]);
+    EXPECT_EQ(disagree, 0) << name;
+  }
 };
 
 Vec3 model_point(const Primitive3D& p, const Vec3& l) {
@@ -49,6 +60,20 @@ Vec3 model_point(const Primitive3D& p, const Vec3& l) {
   return {p.cx + m[0][0] * l[0] + m[0][1] * l[1] + m[0][2] * l[2],
           p.cy + m[1][0] * l[0] + m[1][1] * l[1] + m[1][2] * l[2],
           p.cz + m[2][0] * l[0] + m[2][1] * l[1] + m[2][2] * l[2]};
+}
+
+// `count` random points in p's bounds (one unit beyond them) that are not within 1 % of its size
+// of its surface, appended to `out`.
+void add_random_probes(const Primitive3D& p, std::size_t count, unsigned seed, std::vector<Vec3>& out) {
+  const Bounds3 b = p.bounds();
+  const double size = std::max({p.dims[0], p.dims[1], p.dims[2]});
+  std::mt19937_64 rng(seed);
+  for (const std::size_t end = out.size() + count; out.size() < end;) {
+    Vec3 q;
+    for (int a = 0; a < 3; ++a)
+      q[a] = std::uniform_real_distribution<double>(b.lo[a] - 1, b.hi[a] + 1)(rng);
+    if (std::fabs(p.signed_distance(q[0], q[1], q[2])) > 0.01 * size) out.push_back(q);
+  }
 }
 
 // Points where the solid and the rendering must agree: towards every vertex just inside it and
@@ -63,15 +88,7 @@ std::vector<Vec3> probe_points(const Primitive3D& p) {
     out.push_back(model_point(p, {0.97 * r * std::cos(a), 0.97 * r * std::sin(a), 0}));
     out.push_back(model_point(p, {between * std::cos(a + half), between * std::sin(a + half), 0}));
   }
-  const Bounds3 b = p.bounds();
-  const double size = std::max({p.dims[0], p.dims[1], p.dims[2]});
-  std::mt19937_64 rng(9);
-  while (out.size() < 2 * static_cast<std::size_t>(p.sides) + 200) {
-    Vec3 q;
-    for (int a = 0; a < 3; ++a)
-      q[a] = std::uniform_real_distribution<double>(b.lo[a] - 1, b.hi[a] + 1)(rng);
-    if (std::fabs(p.signed_distance(q[0], q[1], q[2])) > 0.01 * size) out.push_back(q);
-  }
+  add_random_probes(p, 200, 9, out);
   return out;
 }
 
@@ -88,15 +105,8 @@ TEST_F(ScadPolygonRender, RenderedSolidHasThePrimitivesVolumeAndPoints) {
       polygonal(Primitive3D::cylinder(0, 0, 0, 5, 2, Quaternion::from_euler_deg(0, 90, 7)), 3),
   };
   int n = 0;
-  for (const Primitive3D& p : shapes) {
-    const std::string name = "shape_" + std::to_string(n++);
-    const TriangleMesh mesh = rendered(p, name);
-    EXPECT_NEAR(std::fabs(signed_volume(mesh)), p.volume(), 1e-4 * p.volume()) << name;
-    int disagree = 0;
-    for (const Vec3& q : probe_points(p))
-      disagree += (winding_number(mesh, q) > 0.5) != p.contains(q[0], q[1], q[2]);
-    EXPECT_EQ(disagree, 0) << name;
-  }
+  for (const Primitive3D& p : shapes)
+    expect_rendered_as_solved(p, "shape_" + std::to_string(n++), 1e-4, probe_points(p));
 }
 
 // Points where a rounded box and its rendering must agree: just inside each flat's middle and
@@ -118,15 +128,7 @@ std::vector<Vec3> rounded_box_probes(const Primitive3D& p) {
       }
     }
   }
-  const Bounds3 bounds = p.bounds();
-  const double size = std::max({p.dims[0], p.dims[1], p.dims[2]});
-  std::mt19937_64 rng(13);
-  while (out.size() < 250) {
-    Vec3 q;
-    for (int i = 0; i < 3; ++i)
-      q[i] = std::uniform_real_distribution<double>(bounds.lo[i] - 1, bounds.hi[i] + 1)(rng);
-    if (std::fabs(p.signed_distance(q[0], q[1], q[2])) > 0.01 * size) out.push_back(q);
-  }
+  add_random_probes(p, 150, 13, out);
   return out;
 }
 
@@ -139,15 +141,8 @@ TEST_F(ScadPolygonRender, RenderedRoundedBoxHasItsVolumeAndPoints) {
       Primitive3D::rounded_box(0, 0, 0, 8, 6, 5, 0.4, Quaternion::from_euler_deg(0, 90, 7)),
   };
   int n = 0;
-  for (const Primitive3D& p : shapes) {
-    const std::string name = "rounded_" + std::to_string(n++);
-    const TriangleMesh mesh = rendered(p, name);
-    EXPECT_NEAR(std::fabs(signed_volume(mesh)), p.volume(), 1e-5 * p.volume()) << name;
-    int disagree = 0;
-    for (const Vec3& q : rounded_box_probes(p))
-      disagree += (winding_number(mesh, q) > 0.5) != p.contains(q[0], q[1], q[2]);
-    EXPECT_EQ(disagree, 0) << name;
-  }
+  for (const Primitive3D& p : shapes)
+    expect_rendered_as_solved(p, "rounded_" + std::to_string(n++), 1e-5, rounded_box_probes(p));
 }
 
 }  // namespace

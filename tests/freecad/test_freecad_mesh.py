@@ -23,7 +23,7 @@ try:
 except ImportError as e:  # pragma: no cover
     pytest.skip(f"FreeCAD Python API not available ({e})", allow_module_level=True)
 
-from csgfit_freecad import builder, mesh_input  # noqa: E402
+from csgfit_freecad import builder, mesh_input, rounded_box_feature  # noqa: E402
 
 R45Z = [math.cos(math.pi / 8), 0, 0, math.sin(math.pi / 8)]        # 45 degrees about z
 R30X = [math.cos(math.pi / 12), math.sin(math.pi / 12), 0, 0]      # 30 degrees about x
@@ -137,7 +137,7 @@ def test_rounded_boxes_are_features_whose_corner_edits(doc):
     built = builder.build(doc, ROUNDED_3D, label="rounded")
     assert builder.check_tree(doc, built.group) == []
     for prim, _, obj in built.primitives:
-        assert obj.Proxy.__class__.__name__ == "RoundedBox"
+        assert rounded_box_feature.is_rounded_box(obj)
         volume = H.rounded_box_volume(prim["size"], prim["corner"])
         shape = obj.Shape
         assert shape.isValid() and len(shape.Solids) == 1, prim
