@@ -90,6 +90,10 @@ TEST(RoundedBoxPrimitive, NormalizeKeepsTheCornerWithinHalfTheNarrowerSide) {
   p.normalize();
   EXPECT_EQ(p.dims[1], 6);
   EXPECT_EQ(p.corner, 3);
+  // Its corners are round only: the polygonal corners of hull() over $fn-gons are not held.
+  p.sides = 8;
+  p.normalize();
+  EXPECT_EQ(p.sides, 0);
   // Every other kind has no corner.
   Primitive3D box = Primitive3D::box(0, 0, 0, 2, 3, 4);
   box.corner = 1;
