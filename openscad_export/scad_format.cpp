@@ -20,7 +20,7 @@ const char* const kReserved[] = {
     "projection", "linear_extrude", "rotate_extrude", "translate", "rotate", "scale", "mirror",
     "multmatrix", "color", "offset", "minkowski", "hull", "resize", "union", "difference",
     "intersection", "render", "group", "parent_module", "fn_r", "fn_sr", "fn_sphere_volume",
-    "csg_torus", "segments"};
+    "csg_torus", "csg_half_disc", "segments"};
 
 }  // namespace
 

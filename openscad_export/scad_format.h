@@ -45,13 +45,15 @@ bool is_empty(const NodeT& n) {
   return true;
 }
 
-/// Children of a union (or intersection) with nested nodes of the same kind inlined.
-template <typename NodeT>
-void collect_flat(const NodeT& n, NodeKind kind, std::vector<const NodeT*>& out) {
+/// Children of a union (or intersection) with nested nodes of the same kind inlined, except
+/// those for which keep_whole(node) holds (a subtree written as one block).
+template <typename NodeT, typename KeepWhole>
+void collect_flat(const NodeT& n, NodeKind kind, std::vector<const NodeT*>& out,
+                  const KeepWhole& keep_whole) {
   for (const NodeT& c : n.children) {
     if (is_empty(c) && kind == NodeKind::Union) continue;
-    if (c.kind == kind)
-      collect_flat(c, kind, out);
+    if (c.kind == kind && !keep_whole(c))
+      collect_flat(c, kind, out, keep_whole);
     else
       out.push_back(&c);
   }

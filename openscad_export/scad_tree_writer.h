@@ -45,9 +45,11 @@ class TreeWriter {
 
  public:
   /// Names each of the tree's shared dimensions once (shared_dimensions.h).
-  void share(const NodeT& tree) {
+  void share(const NodeT& tree) { share(tree, shared_dimensions(tree)); }
+  /// Names each of `dims` (shared dimensions of `tree`) once.
+  void share(const NodeT& tree, const std::vector<SharedDimension>& dims) {
     const std::vector<const P*> ls = leaves(tree);
-    for (const SharedDimension& d : shared_dimensions(tree)) {
+    for (const SharedDimension& d : dims) {
       for (const DimensionUse& u : d.uses) shared_[{ls[u.leaf], u.field}] = d.name;
       shared_list_.push_back({d, ls[d.uses.front().leaf]});
     }
@@ -86,14 +88,17 @@ class TreeWriter {
   }
 
   std::string geometry(const NodeT& n, int indent) {
+    Derived& self = *static_cast<Derived*>(this);
+    if (self.writes_whole(n)) return self.whole(n, indent);
     const std::string pad(static_cast<std::size_t>(indent) * 2, ' ');
+    auto keep_whole = [&self](const NodeT& c) { return self.writes_whole(c); };
     switch (n.kind) {
       case NodeKind::Primitive:
-        return pad + static_cast<Derived*>(this)->primitive(n.primitive) + "\n";
+        return pad + self.primitive(n.primitive) + "\n";
       case NodeKind::Union:
       case NodeKind::Intersection: {
         std::vector<const NodeT*> kids;
-        collect_flat(n, n.kind, kids);
+        collect_flat(n, n.kind, kids, keep_whole);
         if (kids.size() == 1) return geometry(*kids.front(), indent);
         return block(n.kind == NodeKind::Union ? "union()" : "intersection()", kids, indent);
       }
@@ -102,8 +107,8 @@ class TreeWriter {
         for (std::size_t i = 1; i < n.children.size(); ++i) {
           const NodeT& c = n.children[i];
           if (is_empty(c)) continue;
-          if (c.kind == NodeKind::Union)
-            collect_flat(c, NodeKind::Union, kids);
+          if (c.kind == NodeKind::Union && !self.writes_whole(c))
+            collect_flat(c, NodeKind::Union, kids, keep_whole);
           else
             kids.push_back(&c);
         }
@@ -117,6 +122,12 @@ class TreeWriter {
   const std::vector<Tab>& tabs() const { return tabs_; }
 
  protected:
+  // Derived may write a subtree its own way, as one block that is never flattened into its
+  // parent (the 3D writer's sweeps), by hiding these two: whether it does for n, and the
+  // lines it writes then.
+  bool writes_whole(const NodeT&) const { return false; }
+  std::string whole(const NodeT&, int) { return {}; }
+
   /// Adds `prefix_field = v` to the tab and returns the variable's name.
   static std::string add(Tab& tab, const std::string& prefix, const char* field, double v,
                          const std::string& range, int decimals) {

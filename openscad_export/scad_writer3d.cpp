@@ -11,184 +11,43 @@
 #include <vector>
 
 #include "csgfit/error.h"
+#include "csgfit/model/shared_dimensions.h"
+#include "csgfit/model/sweeps.h"
 #include "scad_format.h"
 #include "scad_patch.h"
 #include "scad_tree_writer.h"
+#include "scad_writer3d_impl.h"
 
-namespace csgfit {
+namespace csgfit::scad {
 
-namespace {
-
-// The writers' shared helpers (scad_format.h, scad_tree_writer.h).
-using namespace scad;
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-
-
-/// A morph's turn of one primitive: R(axis, t * degrees) after its rotation at A.
-struct Turn {
-  Vec3 axis{0, 0, 1};
-  double degrees = 0;
-};
-
-class Writer : public TreeWriter<Writer, Node3D> {
- public:
-  Writer(int decimals, double extent) : decimals_(decimals), extent_(extent) {}
-  /// One end of a morph: sizes may be 0, and each primitive turns by `turns` (pre-order) on top
-  /// of its rotation (which the caller makes A's at both ends); `at_b` says which end.
-  Writer(int decimals, double extent, const std::vector<Turn>* turns, bool at_b)
-      : decimals_(decimals), extent_(extent), turns_(turns), at_b_(at_b) {}
-
-  std::string primitive(const Primitive3D& p);
-
-  bool uses_spheres() const { return spheres_; }
-  bool uses_circles() const { return circles_; }
-  bool uses_tori() const { return tori_; }
-  bool uses_corners() const { return corners_; }
-  /// Modules the body calls (one polyhedron per NURBS terminal) and the header lines saying
-  /// how far each strays from its exact patch.
-  const std::string& modules() const { return modules_; }
-  const std::vector<std::string>& notes() const { return notes_; }
-
- private:
-  friend class TreeWriter<Writer, Node3D>;
-
-  static std::string plural(PrimitiveKind3D k) {
-    switch (k) {
-      case PrimitiveKind3D::Box: return "boxes";
-      case PrimitiveKind3D::Sphere: return "spheres";
-      case PrimitiveKind3D::Cylinder: return "cylinders";
-      case PrimitiveKind3D::Cone: return "cones";
-      case PrimitiveKind3D::Ellipsoid: return "ellipsoids";
-      case PrimitiveKind3D::Torus: return "tori";
-      case PrimitiveKind3D::TriangularPrism: return "prisms";
-      case PrimitiveKind3D::Nurbs: return "NURBS patches";
-      case PrimitiveKind3D::RoundedBox: return "rounded boxes";
-    }
-    return "primitives";
-  }
-  int decimals() const { return decimals_; }
-
-  static double check(double v, const char* what, const std::string& prim) {
-    if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
-      throw InputError("cannot write .scad: " + prim + " has a non-finite or out-of-range " +
-                       what);
-    return v;
-  }
-  double check_size(double v, const char* what, const std::string& prim) const {
-    check(v, what, prim);
-    if (!(v > 0) && !(turns_ && v == 0))
-      throw InputError("cannot write .scad: " + prim + " has a " + what + " <= 0");
-    return v;
-  }
-
-  // A morph's turn of this primitive, before its own rotation: "" when it does not turn.
-  std::string turn(Tab& tab, const std::string& prefix) {
-    if (!turns_) return "";
-    const Turn& t = (*turns_)[static_cast<std::size_t>(count_ - 1)];
-    if (number(t.degrees, 6) == "0") return "";
-    const std::string a = add(tab, prefix, "turn", at_b_ ? t.degrees : 0.0, "[-180:0.1:180]", 6);
-    return "rotate(a = " + a + ", v = [" + number(t.axis[0], 9) + ", " + number(t.axis[1], 9) +
-           ", " + number(t.axis[2], 9) + "]) ";
-  }
-
-  double step() const { return slider_step(extent_); }
-  std::string length_range(double v) const {
-    return "[0:" + number(step(), 12) + ":" + number(nice_ceiling(std::max(extent_, std::fabs(v))), 12) +
-           "]";
-  }
-  std::string position_range(double v) const {
-    const double hi = nice_ceiling(std::max(extent_, std::fabs(v)));
-    return "[" + number(-hi, 12) + ":" + number(step(), 12) + ":" + number(hi, 12) + "]";
-  }
-
-  std::string length(Tab& tab, const std::string& prefix, const char* field, double v) {
-    return add(tab, prefix, field, v, length_range(v), decimals_);
-  }
-  // A length, or the shared parameter that stands for p's `shared` field.
-  std::string length(Tab& tab, const Primitive3D& p, DimensionField shared,
-                     const std::string& prefix, const char* field, double v) {
-    if (const std::string* name = shared_name(p, shared)) return *name;
-    return length(tab, prefix, field, v);
-  }
-
-  // The radius a cylinder or cone is drawn with: a round one's is sized by fn_r so that its
-  // $fn-gon keeps the fitted area; a polygonal one is that polygon already, drawn as it is.
-  std::string drawn_radius(const Primitive3D& p, const std::string& radius) {
-    if (p.is_polygonal()) return radius;
-    circles_ = true;
-    return "fn_r(" + radius + ")";
-  }
-  // ", $fn = <its sides parameter>" for a polygonal cylinder or cone, "" for a round one (the
-  // file's $fn draws it).
-  std::string polygon_sides(Tab& tab, const std::string& prefix, const Primitive3D& p) {
-    if (!p.is_polygonal()) return "";
-    const std::string range = "[3:1:" + std::to_string(std::max(p.sides, 64)) + "]";
-    return ", $fn = " + add(tab, prefix, "sides", p.sides, range, 0);
-  }
-
-  // "rotate([a, b, c]) " with a variable per non-zero angle, or "" for no rotation.
-  std::string rotation(Tab& tab, const std::string& prefix, const Primitive3D& p,
-                       const std::string& what) {
-    Vec3 e;
-    if (is_axially_symmetric(p)) {
-      // Only the axis matters: rotate([a, b, 0]) takes local z to the axis (x, y, z) when
-      // a = -asin(y), b = atan2(x, z).
-      const Mat3 m = p.rotation.matrix();
-      const double ax = m[0][2], ay = m[1][2], az = m[2][2];
-      e = {-std::asin(std::clamp(ay, -1.0, 1.0)) * kRadToDeg, std::atan2(ax, az) * kRadToDeg, 0};
-    } else {
-      e = p.rotation.euler_deg();
-    }
-    static const char* const names[3] = {"rot_x", "rot_y", "rot_z"};
-    std::string parts[3];
-    bool any = false;
-    for (int i = 0; i < 3; ++i) {
-      check(e[i], "rotation", what);
-      // Angles get more decimals than lengths: a degree turns a 100 mm part's end by 1.7 mm.
-      if (number(e[i], 6) == "0") {
-        parts[i] = "0";
-        continue;
-      }
-      any = true;
-      parts[i] = add(tab, prefix, names[i], e[i], "[-180:0.1:180]", 6);
-    }
-    if (!any) return "";
-    return "rotate([" + parts[0] + ", " + parts[1] + ", " + parts[2] + "]) ";
-  }
-
-  int decimals_;
-  double extent_;
-  const std::vector<Turn>* turns_ = nullptr;
-  bool at_b_ = false;
-  bool spheres_ = false, circles_ = false, tori_ = false, corners_ = false;
-  std::string modules_;
-  std::vector<std::string> notes_;
-
-  std::string nurbs(const Primitive3D& p, const std::string& prefix, const std::string& what);
-  std::string rounded_box(Tab& tab, const Primitive3D& p, const std::string& prefix,
-                          const std::string& what);
-};
-
-std::string Writer::primitive(const Primitive3D& p) {
+Writer3D::Names Writer3D::names_of(const Primitive3D& p) {
   ++count_;
   numbered(p);
   const std::string num = std::to_string(count_);
-  std::string prefix, title;
+  Names n;
   switch (p.kind) {
-    case PrimitiveKind3D::Box: prefix = "box_", title = "Box "; break;
-    case PrimitiveKind3D::Sphere: prefix = "sphere_", title = "Sphere "; break;
-    case PrimitiveKind3D::Cylinder: prefix = "cyl_", title = "Cylinder "; break;
-    case PrimitiveKind3D::Cone: prefix = "cone_", title = "Cone "; break;
-    case PrimitiveKind3D::Ellipsoid: prefix = "ellipsoid_", title = "Ellipsoid "; break;
-    case PrimitiveKind3D::Torus: prefix = "torus_", title = "Torus "; break;
-    case PrimitiveKind3D::TriangularPrism: prefix = "prism_", title = "Prism "; break;
-    case PrimitiveKind3D::Nurbs: prefix = "nurbs_", title = "NURBS patch "; break;
-    case PrimitiveKind3D::RoundedBox: prefix = "rbox_", title = "Rounded box "; break;
+    case PrimitiveKind3D::Box: n.prefix = "box_", n.title = "Box "; break;
+    case PrimitiveKind3D::Sphere: n.prefix = "sphere_", n.title = "Sphere "; break;
+    case PrimitiveKind3D::Cylinder: n.prefix = "cyl_", n.title = "Cylinder "; break;
+    case PrimitiveKind3D::Cone: n.prefix = "cone_", n.title = "Cone "; break;
+    case PrimitiveKind3D::Ellipsoid: n.prefix = "ellipsoid_", n.title = "Ellipsoid "; break;
+    case PrimitiveKind3D::Torus: n.prefix = "torus_", n.title = "Torus "; break;
+    case PrimitiveKind3D::TriangularPrism: n.prefix = "prism_", n.title = "Prism "; break;
+    case PrimitiveKind3D::Nurbs: n.prefix = "nurbs_", n.title = "NURBS patch "; break;
+    case PrimitiveKind3D::RoundedBox: n.prefix = "rbox_", n.title = "Rounded box "; break;
   }
-  prefix += num;
-  title += num;
-  const std::string what = "primitive " + num + " (" + std::string(to_string(p.kind)) + ")";
+  n.prefix += num;
+  n.title += num;
+  n.what = "primitive " + num + " (" + std::string(to_string(p.kind)) + ")";
+  return n;
+}
+
+std::string Writer3D::primitive(const Primitive3D& p) {
+  if (sweep_) return section(p);
+  const Names names = names_of(p);
+  const std::string& prefix = names.prefix;
+  const std::string& title = names.title;
+  const std::string& what = names.what;
   Tab tab{title, {}};
   const int d = decimals_;
   const std::string vx = add(tab, prefix, "cx", check(p.cx, "centre x", what), position_range(p.cx), d);
@@ -196,7 +55,7 @@ std::string Writer::primitive(const Primitive3D& p) {
   const std::string vz = add(tab, prefix, "cz", check(p.cz, "centre z", what), position_range(p.cz), d);
   const Vec3& s = p.dims;
   std::string code = "translate([" + vx + ", " + vy + ", " + vz + "]) ";
-  if (p.kind != PrimitiveKind3D::Sphere) code += turn(tab, prefix) + rotation(tab, prefix, p, what);
+  if (p.kind != PrimitiveKind3D::Sphere) code += turn(tab, prefix) + rotation(tab, prefix, p.rotation, is_axially_symmetric(p), what);
   switch (p.kind) {
     case PrimitiveKind3D::Box: {
       const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
@@ -264,7 +123,14 @@ std::string Writer::primitive(const Primitive3D& p) {
       break;
     }
     case PrimitiveKind3D::Nurbs: code += nurbs(p, prefix, what); break;
-    case PrimitiveKind3D::RoundedBox: code += rounded_box(tab, p, prefix, what); break;
+    case PrimitiveKind3D::RoundedBox: {
+      const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
+      const std::string b = length(tab, prefix, "size_y", check_size(s[1], "size y", what));
+      const std::string c = length(tab, prefix, "size_z", check_size(s[2], "size z", what));
+      code += "linear_extrude(height = " + c + ", center = true) " +
+              rounded_square(tab, p, prefix, what, a, b) + ";";
+      break;
+    }
   }
   if (!tab.vars.empty()) tabs_.push_back(std::move(tab));
   return code;
@@ -273,26 +139,22 @@ std::string Writer::primitive(const Primitive3D& p) {
 // As designers draw it: the rectangle of the corner centres grown by offset(r). The corner is
 // drawn with the radius fn_corner gives it, so that its polygon keeps the fitted area and the
 // flats stay on the fitted faces (the square shrinks as the radius grows).
-std::string Writer::rounded_box(Tab& tab, const Primitive3D& p, const std::string& prefix,
-                                const std::string& what) {
-  const Vec3& s = p.dims;
-  const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
-  const std::string b = length(tab, prefix, "size_y", check_size(s[1], "size y", what));
-  const std::string c = length(tab, prefix, "size_z", check_size(s[2], "size z", what));
+std::string Writer3D::rounded_square(Tab& tab, const Primitive3D& p, const std::string& prefix,
+                                     const std::string& what, const std::string& w,
+                                     const std::string& h) {
   check_size(p.corner, "corner", what);
-  if (p.corner > std::min(s[0], s[1]) / 2 * (1 + 1e-12))
+  if (p.corner > std::min(p.dims[0], p.dims[1]) / 2 * (1 + 1e-12))
     throw InputError("cannot write .scad: " + what + " has a corner over half its smaller side");
   const std::string r = "fn_corner(" + length(tab, prefix, "corner", p.corner) + ")";
   corners_ = true;
-  return "linear_extrude(height = " + c + ", center = true) offset(r = " + r +
-         ", $fn = corner_fn) square([" + a + " - 2 * " + r + ", " + b + " - 2 * " + r +
-         "], center = true);";
+  return "offset(r = " + r + ", $fn = corner_fn) square([" + w + " - 2 * " + r + ", " + h +
+         " - 2 * " + r + "], center = true)";
 }
 
 // The patch's polyhedron within 1e-4 of its size (about 0.005 mm on a 60 mm die), as a module
 // so that the body stays readable; its control net is not a Customizer parameter (edit the
 // JSON or the FreeCAD feature's control points instead).
-std::string Writer::nurbs(const Primitive3D& p, const std::string& prefix, const std::string& what) {
+std::string Writer3D::nurbs(const Primitive3D& p, const std::string& prefix, const std::string& what) {
   if (!p.patch) throw InputError("cannot write .scad: " + what + " has no patch");
   for (const Vec3& v : p.patch->net())
     for (double c : v) check(c, "control point", what);
@@ -307,9 +169,14 @@ std::string Writer::nurbs(const Primitive3D& p, const std::string& prefix, const
   return "csg_" + prefix + "();";
 }
 
-}  // namespace
+}  // namespace csgfit::scad
+
+namespace csgfit {
 
 namespace {
+
+// The writers' shared helpers (scad_format.h, scad_tree_writer.h, scad_writer3d_impl.h).
+using namespace scad;
 
 // offset(r) rounds each of a square's corners with round($fn / 4) segments, vertices on the
 // circle, the first and last on the square's edge normals (Clipper's round joins): with $fn a
@@ -324,6 +191,33 @@ void write_corner_radius(std::ostream& out) {
          "area.\n";
   out << "corner_fn = 4 * ceil(segments / 4);\n";
   out << "function fn_corner(r) = r * sqrt((4 - PI) / (4 - corner_fn / 2 * sin(360 / corner_fn)));\n";
+}
+
+// fn_sr: the radius that gives OpenSCAD's sphere polyhedron what the circle fit asks of it.
+void write_sphere_radius(std::ostream& out, CircleFit fit) {
+  switch (fit) {
+    case CircleFit::Inscribed:
+      out << "// Spheres are OpenSCAD's ring polyhedra with their vertices on the fitted "
+             "sphere.\n";
+      out << "function fn_sr(r) = r;\n\n";
+      break;
+    case CircleFit::Circumscribed:
+      out << "// Spheres enlarged like circles, so the ring polygons' edges touch the sphere.\n";
+      out << "function fn_sr(r) = r / cos(180 / $fn);\n\n";
+      break;
+    case CircleFit::EqualArea:
+      out << "// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with "
+             "their\n// vertices on the sphere: a stack of frusta. fn_sphere_volume is that "
+             "polyhedron's\n// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the "
+             "fitted sphere's volume.\n";
+      out << "function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :\n"
+             "  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),\n"
+             "      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))\n"
+             "  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);\n";
+      out << "function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *\n"
+             "  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);\n\n";
+      break;
+  }
 }
 
 double model_extent(const Node3D& tree) {
@@ -366,12 +260,24 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
       lb[i]->rotation = la[i]->rotation;
     }
   }
-  Writer writer = morph_b ? Writer(decimals, extent, &turns, false) : Writer(decimals, extent);
-  if (!morph_b) writer.share(tree);  // as in 2D: a morph's ends share nothing
+  Writer3D writer = morph_b ? Writer3D(decimals, extent, &turns, false) : Writer3D(decimals, extent);
+  // As in 2D, a morph's ends share nothing; nor are they swept (each end may sweep apart).
+  const std::vector<Sweep> sweeps = morph_b ? std::vector<Sweep>() : find_sweeps(tree);
+  if (!morph_b) {
+    writer.use_sweeps(&sweeps);
+    // A cylinder's length is the extrusion's height in a linear sweep: not a dimension there.
+    std::vector<bool> extruded(tree.primitive_count(), false);
+    for (const Sweep& s : sweeps)
+      for (const SweepSection& section : s.sections)
+        extruded[section.leaf_index] = s.kind == SweepKind::Linear;
+    writer.share(tree, shared_dimensions(tree, [&](const DimensionUse& u) {
+                   return u.field != DimensionField::Length || !extruded[u.leaf];
+                 }));
+  }
   const std::string body = writer.geometry(tree, 1);
   std::vector<Tab> tabs_b;
   if (morph_b) {
-    Writer other(decimals, extent, &turns, true);
+    Writer3D other(decimals, extent, &turns, true);
     if (other.geometry(b_turned, 1) != body)
       throw InputError("cannot write .scad: the two trees of the morph differ in structure");
     tabs_b = other.tabs();
@@ -401,31 +307,15 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
   out << "\n";
   if (morph_b) write_morph_values(out, writer.tabs(), tabs_b);
   if (writer.uses_circles()) write_circle_radius(out, options.circle_fit);
-  if (writer.uses_spheres()) {
-    switch (options.circle_fit) {
-      case CircleFit::Inscribed:
-        out << "// Spheres are OpenSCAD's ring polyhedra with their vertices on the fitted "
-               "sphere.\n";
-        out << "function fn_sr(r) = r;\n\n";
-        break;
-      case CircleFit::Circumscribed:
-        out << "// Spheres enlarged like circles, so the ring polygons' edges touch the sphere.\n";
-        out << "function fn_sr(r) = r / cos(180 / $fn);\n\n";
-        break;
-      case CircleFit::EqualArea:
-        out << "// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with "
-               "their\n// vertices on the sphere: a stack of frusta. fn_sphere_volume is that "
-               "polyhedron's\n// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the "
-               "fitted sphere's volume.\n";
-        out << "function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :\n"
-               "  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),\n"
-               "      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))\n"
-               "  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);\n";
-        out << "function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *\n"
-               "  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);\n\n";
-        break;
-    }
-  }
+  if (writer.uses_revolutions())
+    out << "// rotate_extrude() sweeps $fn-gons: a profile stretched across its axis by fn_r(1)\n"
+           "// gives each the area of the circle it stands for, as fn_r does a cylinder's.\n\n";
+  if (writer.uses_half_discs())
+    out << "// The half x >= 0 of a circle: a sphere's profile (rotate_extrude refuses one that\n"
+           "// crosses its axis).\n"
+           "module csg_half_disc(r) intersection() { circle(r = r); translate([0, -r]) "
+           "square([r, 2 * r]); }\n\n";
+  if (writer.uses_spheres()) write_sphere_radius(out, options.circle_fit);
   if (writer.uses_tori()) {
     out << "// A torus about the z axis: the circle of radius r at distance R, revolved. With\n"
            "// equal-area fn_r, stretching the profile by fn_r(1) across the axis gives the\n"

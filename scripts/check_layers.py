@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Checks that the solver's stages include only themselves and earlier stages.
 
-The data flow runs model < eval < features < refine < seed < optimise < search < pipeline < io
+The data flow runs model < eval < features < refine < seed < optimise < construct < search <
+pipeline < io
 (docs/ARCHITECTURE.md), all above the few headers directly in native/include/csgfit/ (the
 error type). A header or source of one stage (native/include/csgfit/STAGE/ and
 native/src/STAGE/) that includes a header of a later stage is reported, and so is any solver
@@ -19,7 +20,7 @@ import sys
 from source_tree import REPO, report, sources
 
 BASE = "base"  # error.h: what every stage may throw
-STAGES = [BASE, "model", "eval", "features", "refine", "seed", "optimise", "search", "pipeline", "io"]
+STAGES = [BASE, "model", "eval", "features", "refine", "seed", "optimise", "construct", "search", "pipeline", "io"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 WRITERS = ("scad_", "step_")
 

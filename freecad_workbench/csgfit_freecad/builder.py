@@ -19,7 +19,7 @@ from typing import Any, Dict, List, Optional
 
 import FreeCAD as App
 
-from . import shared_dimensions
+from . import shared_dimensions, sweep_objects
 from .part_objects import PARAMETRIC_TYPES, BuildError, PartTree
 
 SCHEMA = "csgfit/1"
@@ -109,7 +109,7 @@ def object_name(text: str) -> str:
 
 
 def _chosen_tree(result: Dict[str, Any], alternative: int):
-    """(tree, stats, shared dimensions) of the best tree (-1) or of an alternative."""
+    """(tree, stats, shared dimensions, sweeps) of the best tree (-1) or of an alternative."""
     chosen = result
     if alternative != -1:
         alts = result.get("alternatives") or []
@@ -117,7 +117,8 @@ def _chosen_tree(result: Dict[str, Any], alternative: int):
             raise BuildError(f"no alternative {alternative} (the result has {len(alts)})")
         chosen = alts[alternative]
     shared = chosen.get("shared_dimensions")
-    return chosen["tree"], chosen.get("stats") or {}, shared if isinstance(shared, list) else []
+    return (chosen["tree"], chosen.get("stats") or {}, shared if isinstance(shared, list) else [],
+            chosen.get("sweeps"))
 
 
 def _parameter_sheet(doc, name: str, label: str, result: Dict[str, Any],
@@ -202,10 +203,11 @@ def build(doc, source: Any, *, thickness: Optional[float] = None, label: Optiona
     Raises BuildError on malformed input (nothing is left in the document then).
     """
     result = load_result(source)
-    tree, stats, shared = _chosen_tree(result, alternative)
+    tree, stats, shared, sweeps = _chosen_tree(result, alternative)
     scad = source.to_scad() if dimension(result) == 3 and hasattr(source, "to_scad") else None
     return assemble(doc, result, tree, stats, thickness=thickness, label=label,
-                    alternative=alternative, scad=scad, recompute=recompute, shared=shared)
+                    alternative=alternative, scad=scad, recompute=recompute, shared=shared,
+                    sweeps=sweeps)
 
 
 def extrusion_thickness(result: Dict[str, Any], thickness: Optional[float]) -> Optional[float]:
@@ -221,14 +223,16 @@ def extrusion_thickness(result: Dict[str, Any], thickness: Optional[float]) -> O
 def assemble(doc, result: Dict[str, Any], tree: Dict[str, Any], stats: Dict[str, Any], *,
              thickness: Optional[float] = None, label: Optional[str] = None,
              alternative: int = -1, scad: Optional[str] = None, recompute: bool = True,
-             make_tree=PartTree, extra_rows=(), shared=()) -> BuildResult:
+             make_tree=PartTree, extra_rows=(), shared=(), sweeps=None) -> BuildResult:
     """build() once the tree is chosen: the group, its parameter sheet (plus extra_rows and a
     cell per shared dimension), the Part objects of `tree` made by make_tree(doc, group, sheet,
     thickness expression or None) (a PartTree; morph_builder passes its own) with the shared
-    dimensions tied to their cells, the record on the group.
+    dimensions tied to their cells and a 3D tree's sweeps (the JSON's "sweeps") built as
+    extrusions and revolutions of their profile, the record on the group.
     Raises BuildError on malformed input (nothing is left in the document then)."""
     dim = dimension(result)
     t = extrusion_thickness(result, thickness)
+    by_node = sweep_objects.sweeps_by_node(sweeps, tree) if dim == 3 else {}
     if label is None:
         src = result.get("source") or ""
         label = os.path.splitext(os.path.basename(src))[0] or "csgfit"
@@ -239,6 +243,7 @@ def assemble(doc, result: Dict[str, Any], tree: Dict[str, Any], stats: Dict[str,
     sheet = _parameter_sheet(doc, name, label, result, t,
                              list(extra_rows) + shared_dimensions.sheet_rows(shared))
     builder = make_tree(doc, group, sheet, f"{sheet.Name}.thickness" if dim == 2 else None)
+    builder.sweeps = by_node
     try:
         root = builder.node(tree, "tree")
         shared_dimensions.bind(sheet, shared, builder.primitives)

@@ -1,5 +1,6 @@
-"""The part every csgfit Part::FeaturePython proxy shares (the NURBS terminal, the rounded box):
-its properties added when the feature is made, and nothing of its own to save."""
+"""The part every csgfit Part::FeaturePython proxy shares (the NURBS terminal, the rounded box,
+its section the rounded rectangle): its properties added when the feature is made, and nothing
+of its own to save."""
 
 from __future__ import annotations
 

@@ -44,6 +44,10 @@ Placement is centre + R * (local offset of that corner or base), rotation = the 
   rounded_box  Part::FeaturePython "csgfit rounded box" (rounded_box_feature.py): Length, Width,
                               Height = size, Radius = corner; centred on its local origin (a
                               Part::Fillet of a box cannot make the stadium, Radius = Width / 2)
+
+A subtree the document lists in "sweeps" (a profile extruded along an axis or turned about one)
+is built by sweep_objects.py instead: its leaves' sections as faces, one Part::Extrusion or
+Part::Revolution.
 """
 
 from __future__ import annotations
@@ -58,7 +62,10 @@ from . import nurbs_feature, rounded_box_feature
 PRIMITIVE_TYPES = ("Part::Box", "Part::Cylinder", "Part::Ellipse", "Part::Extrusion",
                    "Part::Wedge", "Part::Sphere", "Part::Cone", "Part::Ellipsoid", "Part::Torus",
                    "Part::Prism", "Part::RegularPolygon", "Part::Vertex", "Part::Loft",
-                   nurbs_feature.TYPE_ID)
+                   nurbs_feature.TYPE_ID,
+                   # A sweep's sections and its sweep (sweep_objects.py).
+                   "Part::Plane", "Part::Circle", "Part::Polygon", "Part::Face",
+                   "Part::Revolution")
 BOOLEAN_TYPES = ("Part::MultiFuse", "Part::MultiCommon", "Part::Cut", "Part::Fuse",
                  "Part::Common")
 #: Every object type the builder creates (besides the group and its spreadsheet).
@@ -160,6 +167,9 @@ class PartTree:
         self.created: List[Any] = []
         self.primitives: List[Tuple[Dict[str, Any], Any, Any]] = []
         self.counts: Dict[str, int] = {}
+        #: Subtrees built as sweeps (sweep_objects.sweeps_by_node), by pre-order node index.
+        self.sweeps: Dict[int, Dict[str, Any]] = {}
+        self._next_node = 0  # pre-order index of the next node node() builds
 
     def _add(self, type_name: str, label: str, make=None):
         """A new object of the tree, labelled label001, label002, ...; make(doc, name) makes it
@@ -174,6 +184,13 @@ class PartTree:
     def node(self, d: Any, where: str):
         if not isinstance(d, dict):
             raise BuildError(f"{where}: a node must be an object")
+        index = self._next_node
+        self._next_node += 1
+        if index in self.sweeps:
+            from . import sweep_objects  # it builds on this module
+
+            self._next_node += sweep_objects.node_count(d) - 1
+            return sweep_objects.build(self, d, self.sweeps[index], where)
         if "op" in d:
             return self.operator(d, where)
         if "type" in d:
@@ -181,13 +198,22 @@ class PartTree:
         raise BuildError(f"{where}: a node needs 'op' or 'type'")
 
     def operator(self, d: Dict[str, Any], where: str):
+        op, kids = self.operator_parts(d, where)
+        return self.combine(op, [self.node(c, f"{where}.children[{i}]") for i, c in enumerate(kids)])
+
+    @staticmethod
+    def operator_parts(d: Dict[str, Any], where: str):
+        """(op, children) of an operator node, checked."""
         op = d["op"]
         kids = d.get("children")
         if not isinstance(kids, list) or not kids:
             raise BuildError(f"{where}: '{op}' needs a non-empty 'children' array")
         if op not in ("union", "difference", "intersection"):
             raise BuildError(f"{where}: unknown op {op!r}")
-        children = [self.node(c, f"{where}.children[{i}]") for i, c in enumerate(kids)]
+        return op, kids
+
+    def combine(self, op: str, children):
+        """The boolean `op` of built objects (solids, or a sweep's faces)."""
         if len(children) == 1:
             return children[0]
         if op == "union":

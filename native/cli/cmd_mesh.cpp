@@ -23,12 +23,13 @@ struct MeshArgs {
   FitArgs fit;
   int resolution = 0;
   bool no_align = false;
+  bool no_construct = false;
 };
 
 void add_mesh_options(CLI::App& mesh, MeshArgs& a) {
   a.fit.time_limit = 30;
   a.fit.fn = 64;
-  a.fit.primitives = "box,sphere,cylinder,cone,ellipsoid,prism";
+  a.fit.primitives = "box,sphere,cylinder,cone,ellipsoid,torus,prism";
   add_fit_args(mesh, a.fit,
                {"STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid",
                 "output: .scad, .json, .step or .FCStd",
@@ -43,6 +44,9 @@ void add_mesh_options(CLI::App& mesh, MeshArgs& a) {
       ->check(obeys(option_rules::resolution));
   mesh.add_flag("--no-align", a.no_align,
                 "fit along the mesh's own axes (default: along its dominant planar faces)");
+  mesh.add_flag("--no-construct", a.no_construct,
+                "search from voxels only (default: build the tree from the mesh's own faces "
+                "first, and search only where they do not explain it)");
 }
 
 // `problems` gets the mesh's defects, for a warning once the fit succeeded; a fit that fails
@@ -61,6 +65,7 @@ MeshFitResult read_and_fit(const MeshArgs& a, FitOptions3D options,
   MeshFitOptions mesh_options;
   mesh_options.resolution = a.resolution;
   mesh_options.align = !a.no_align;
+  mesh_options.construct = !a.no_construct;
   try {
     return fit_input3d(input, options, mesh_options, progress);
   } catch (const InputError& e) {

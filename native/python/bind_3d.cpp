@@ -118,6 +118,13 @@ void def_fit3d(py::module_& m, const char* name, Fit&& fit, const char* doc,
 
 void bind_3d(py::module_& m) {
   bind_result(m);
+  m.def(
+      "sweeps_json",
+      [](const std::string& document) {
+        return csgfit::to_json_sweeps(csgfit::from_json3d(document));
+      },
+      py::arg("document"),
+      "The \"sweeps\" block (a JSON array) of a 3D document's tree, as to_json writes it.");
   def_fit3d(
       m, "fit_mesh_arrays",
       [](const F64Array& vertices, const I64Array& triangles, int resolution, double voxel_size,

@@ -2,11 +2,13 @@
 // same tree; bad documents are one-line InputErrors.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "csgfit/error.h"
 #include "csgfit/pipeline/fit_voxels.h"
 #include "csgfit/io/json.h"
+#include "sweep_parts.h"
 
 namespace csgfit {
 namespace {
@@ -151,6 +153,72 @@ TEST(Json3D, ARoundedBoxsCornerIsWrittenAndCheckedWhenRead) {
         std::string(R"("box", "center": [0, 0, 0], "size": [1, 1, 1], "corner": 0.2})")})
     expect_refused(head + tree + "}", "corner");
   expect_refused(head + rounded + R"("corner": 3, "sides": 8}})", "sides");
+}
+
+std::string document(const Node3D& tree) {
+  FitResult3D result;
+  result.tree = tree;
+  return to_json3d(result, VoxelGrid(4, 4, 4, 0, 0, 0, 1), "part.stl");
+}
+
+// "sweeps" gives a reader that draws extrusions (the FreeCAD builder) each sweep's node,
+// frame and its leaves' sections as 2D shapes; a tree without one has no "sweeps".
+TEST(Json3D, SweepsCarryTheirFrameAndSections) {
+  using nlohmann::json;
+  EXPECT_FALSE(json::parse(document(every_kind())).contains("sweeps"));
+  const json plate = json::parse(document(testing::plate_with_holes()))["sweeps"];
+  ASSERT_EQ(plate.size(), 1u);
+  EXPECT_EQ(plate[0]["node"], 0);
+  EXPECT_EQ(plate[0]["kind"], "linear_extrude");
+  EXPECT_EQ(plate[0]["center"], json::parse("[0, 0, 8]"));
+  EXPECT_EQ(plate[0]["rotation"], json::parse("[1, 0, 0, 0]"));
+  EXPECT_EQ(plate[0]["height"], 4.0);
+  EXPECT_EQ(plate[0]["sections"][0],
+            json::parse(R"({"leaf": 0, "type": "rectangle", "cx": 16, "cy": 16, "w": 26, "h": 18,
+                            "angle": 0})"));
+  EXPECT_EQ(plate[0]["sections"][1],
+            json::parse(R"({"leaf": 1, "type": "circle", "cx": 8, "cy": 11, "r": 2.5})"));
+  EXPECT_EQ(plate[0]["sections"][3]["sides"], 6);
+  EXPECT_NEAR(plate[0]["sections"][3]["angle"].get<double>(), 10, 1e-9);
+
+  // A rounded box's section is its rounded rectangle, sides as the plane sees them.
+  const json rounded = json::parse(document(testing::rounded_plate_with_slot()))["sweeps"][0];
+  EXPECT_EQ(rounded["height"], 4.0);
+  json plate_section = rounded["sections"][0];
+  EXPECT_NEAR(plate_section["angle"].get<double>(), 0, 1e-9);
+  plate_section.erase("angle");
+  EXPECT_EQ(plate_section, json::parse(R"({"leaf": 0, "type": "rounded_rectangle", "cx": 16,
+                                           "cy": 16, "w": 26, "h": 18, "r": 4})"));
+  EXPECT_EQ(rounded["sections"][2]["type"], "rounded_rectangle");
+  EXPECT_EQ(rounded["sections"][2]["r"], 1.5);
+  EXPECT_NEAR(rounded["sections"][2]["angle"].get<double>(), 30, 1e-9);
+
+  const json turned = json::parse(document(testing::turned_part()))["sweeps"][0];
+  EXPECT_EQ(turned["kind"], "rotate_extrude");
+  EXPECT_FALSE(turned.contains("height"));
+  EXPECT_EQ(turned["center"], json::parse("[16, 16, 0]"));
+  EXPECT_EQ(turned["sections"][0],
+            json::parse(R"({"leaf": 0, "type": "rectangle", "cx": 4.5, "cy": 16, "w": 9, "h": 12,
+                            "angle": 0})"));
+  EXPECT_EQ(turned["sections"][2],
+            json::parse(R"({"leaf": 2, "type": "circle", "cx": 9, "cy": 16, "r": 2})"));
+
+  // A prism seen from behind is its triangle turned half round, apex on the other side; a
+  // pointed cone's profile is a triangle; a sphere's the half disc on the axis's side.
+  const Quaternion upside_down = Quaternion::from_euler_deg(180, 0, 0);
+  const json prism = json::parse(document(Node3D::op(
+      NodeKind::Union, {Node3D::leaf(Primitive3D::box(0, 0, 0, 4, 4, 2)),
+                        Node3D::leaf(Primitive3D::prism(3, 0, 0, 2, 3, 2, 0.5, upside_down))})));
+  const json triangle = prism["sweeps"][0]["sections"][1];
+  EXPECT_EQ(triangle["type"], "triangle");
+  EXPECT_NEAR(triangle["angle"].get<double>(), 180, 1e-9);
+  EXPECT_EQ(triangle["apex"], -0.5);
+  const json shaft = json::parse(document(Node3D::op(
+      NodeKind::Union, {Node3D::leaf(Primitive3D::cone(0, 0, 1, 2, 0, 2)),
+                        Node3D::leaf(Primitive3D::sphere(0, 0, -1, 1))})))["sweeps"][0];
+  EXPECT_EQ(shaft["sections"][0]["points"], json::parse("[[0, 0], [2, 0], [0, 2]]"));
+  EXPECT_EQ(shaft["sections"][1],
+            json::parse(R"({"leaf": 1, "type": "half_disc", "cx": 0, "cy": -1, "r": 1})"));
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "csgfit/error.h"
 #include "evaluator_reference.h"
+#include "voxel_npy.h"
 #include "text_checks.h"
 
 namespace csgfit {
@@ -212,27 +213,6 @@ TEST(ScadWriter3D, BadTreesAreRefusedWithOneLine) {
 // voxels as .npy (uint8, shape (nz, ny, nx)), on a 64^3 grid of 0.5-unit voxels from the
 // origin. Skipped unless CSGFIT_SCAD3D_DUMP names a directory.
 
-void write_npy(const VoxelGrid& g, const std::string& path) {
-  std::string header = "{'descr': '|u1', 'fortran_order': False, 'shape': (" +
-                       std::to_string(g.nz()) + ", " + std::to_string(g.ny()) + ", " +
-                       std::to_string(g.nx()) + "), }";
-  // Magic (6) + version (2) + length (2) + header + '\n', padded to a multiple of 64.
-  while ((10 + header.size() + 1) % 64 != 0) header += ' ';
-  header += '\n';
-  std::ofstream out(path, std::ios::binary);
-  out.write("\x93NUMPY\x01\x00", 8);
-  const unsigned short len = static_cast<unsigned short>(header.size());
-  const char len_bytes[2] = {static_cast<char>(len & 0xff), static_cast<char>(len >> 8)};
-  out.write(len_bytes, 2);
-  out.write(header.data(), static_cast<std::streamsize>(header.size()));
-  std::string bytes(static_cast<std::size_t>(g.nx()) * g.ny() * g.nz(), '\0');
-  std::size_t idx = 0;
-  for (int k = 0; k < g.nz(); ++k)
-    for (int j = 0; j < g.ny(); ++j)
-      for (int i = 0; i < g.nx(); ++i) bytes[idx++] = g.get(i, j, k) ? 1 : 0;
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
 Primitive3D random_primitive(std::mt19937_64& rng, int kind) {
   return reference::random_primitive3d(rng, kind, {9, 9, 9}, {23, 23, 23}, 4, 13);
 }
@@ -272,7 +252,7 @@ TEST(ScadWriter3DRoundTrip, DumpFilesForOpenScad) {
     options.source = "tree_" + std::to_string(t);
     options.summary = structure_string(tree);
     std::ofstream(base + ".scad") << to_scad(tree, options);
-    write_npy(raster, base + ".npy");
+    testing::write_npy(raster, base + ".npy");
   }
 }
 
@@ -282,15 +262,18 @@ TEST(ScadWriter3DRoundTrip, DumpFilesForOpenScad) {
 namespace csgfit {
 namespace {
 
+// Blind holes (4 deep into a 6 mm plate): the plate is no extruded profile, and the holes
+// share their radius and their depth. (Through-holes make it one: scad_sweeps_test.cpp.)
 TEST(ScadWriter3D, EqualHolesShareOneRadiusAndHeightParameter) {
   auto leaf = [](const Primitive3D& p) { return Node3D::leaf(p); };
   const Node3D plate = Node3D::op(
       NodeKind::Difference, {leaf(Primitive3D::box(25, 15, 3, 50, 30, 6)),
-                             leaf(Primitive3D::cylinder(12, 15, 3, 4, 10)),
-                             leaf(Primitive3D::cylinder(38, 15, 3, 4, 10))});
+                             leaf(Primitive3D::cylinder(12, 15, 4, 4, 4)),
+                             leaf(Primitive3D::cylinder(38, 15, 4, 4, 4))});
   const std::string scad = to_scad(plate, ScadOptions3D{});
   EXPECT_TRUE(contains(scad, "/* [Shared dimensions] */\n// radius of cylinders 2 and 3\nhole_r = 4;"));
-  EXPECT_TRUE(contains(scad, "// height of cylinders 2 and 3\nhole_h = 10;"));
+  EXPECT_TRUE(contains(scad, "// height of cylinders 2 and 3\nhole_h = 4;"));
+  EXPECT_TRUE(lacks(scad, "linear_extrude"));
   EXPECT_EQ(occurrences(scad, "cylinder(h = hole_h, r = fn_r(hole_r), center = true)"), 2u) << scad;
   EXPECT_TRUE(lacks(scad, "cyl_2_r"));
   EXPECT_TRUE(lacks(scad, "cyl_3_h"));

@@ -322,3 +322,34 @@ def test_2d_and_3d_results_are_the_same_kind_of_object():
         assert json.loads(r.to_json())["tree"] == r.tree.to_dict()
         assert repr(r).startswith(type(r).__name__ + "(primitives=1, iou=1.0000")
     assert r3.tree.size == pytest.approx((12, 8, 6)) and r2.tree.w == pytest.approx(30)
+
+
+def test_find_sweeps_reads_a_tree_as_the_document_does():
+    plate = {"op": "difference", "children": [
+        {"type": "box", "center": [16, 16, 10], "size": [26, 18, 4]},
+        {"type": "cylinder", "center": [8, 11, 10], "r": 2.5, "h": 8},
+        {"type": "cylinder", "center": [24, 11, 10], "r": 2.5, "h": 8, "sides": 6}]}
+    sweeps = csgfit.find_sweeps(plate)
+    assert len(sweeps) == 1
+    assert (sweeps[0]["node"], sweeps[0]["kind"], sweeps[0]["height"]) == (0, "linear_extrude", 4)
+    assert sweeps[0]["center"] == [0, 0, 8]
+    assert [s["type"] for s in sweeps[0]["sections"]] == ["rectangle", "circle", "circle"]
+    assert sweeps[0]["sections"][2]["sides"] == 6
+    # The same from the tree's objects; a lone primitive or a tree of no sweep has none.
+    assert csgfit.find_sweeps(csgfit.Node("difference", [
+        csgfit.Primitive3D.from_dict(c) for c in plate["children"]])) == sweeps
+    assert csgfit.find_sweeps(plate["children"][0]) == []
+    plate["children"][1]["h"] = 2  # a blind hole
+    assert csgfit.find_sweeps(plate) == []
+
+
+def test_a_fitted_block_with_a_bore_is_written_as_an_extrusion():
+    # The block of PYTHON.md's example: its bore goes through it.
+    i, j, k = np.mgrid[0:42, 0:32, 0:22] + 0.5
+    block = (i > 1) & (i < 41) & (j > 1) & (j < 31) & (k > 1) & (k < 21)
+    hole = (i - 28) ** 2 + (j - 16) ** 2 < 6 ** 2
+    r = csgfit.fit_voxels(block & ~hole, origin=(-1, -1, -1), voxel_size=1.0, time=20, seed=1)
+    assert r.stats.primitives == 2
+    assert r.document["sweeps"] == csgfit.find_sweeps(r.tree)
+    assert r.document["sweeps"][0]["kind"] == "linear_extrude"
+    assert "linear_extrude(height = extrude_1_h)" in r.to_scad()

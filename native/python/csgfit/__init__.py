@@ -48,7 +48,7 @@ from .ranges import (DEFAULT_PRIMITIVES_RANGE, CloudResult, GraphArc, GraphNode,
                      PrecedenceGraph, RangeFitResult, SurfacePatch, ViewAgreement,
                      fit_range, fit_range_points)
 from .results import Alternative, FitResult, FitResult3D, FitStats, GridResult, Result
-from .tree import SIZE_FIELDS_3D, Node, Primitive, Primitive3D
+from .tree import SIZE_FIELDS_3D, Node, Primitive, Primitive3D, find_sweeps
 
 __all__ = [
     "DEFAULT_PRIMITIVES_3D",
@@ -82,6 +82,7 @@ __all__ = [
     "SurfacePatch",
     "ViewAgreement",
     "default_k",
+    "find_sweeps",
     "fit_image",
     "fit_mesh",
     "fit_points",

@@ -6,6 +6,7 @@ that walks a tree need not know which kind of fit made it.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field, fields
 from typing import Callable, Iterator, List, Optional, Tuple, Union
@@ -240,3 +241,16 @@ def tree_from_pixels(d: dict, pixel_size: float) -> Union[Node, Primitive]:
 def tree_from_json3d(d: dict) -> Union[Node, Primitive3D]:
     """A 3D tree from the "tree" of a 3D JSON document."""
     return _tree(d, Primitive3D.from_dict)
+
+
+def find_sweeps(tree) -> List[dict]:
+    """The subtrees of a 3D tree that are a 2D profile swept along an axis or about one: what
+    the .scad writes as linear_extrude / rotate_extrude and the FreeCAD builder as
+    Part::Extrusion / Part::Revolution. Returned as the "sweeps" block of a 3D document
+    (docs/JSON_SCHEMA.md: each sweep's node, kind, frame, height and leaf sections); [] when
+    there is none. tree: a Node or Primitive3D, or a 3D JSON tree (dict)."""
+    from . import _csgfit  # the tree's value types above need no native module; this does
+
+    d = tree.to_dict() if hasattr(tree, "to_dict") else tree
+    document = {"schema": "csgfit/1", "dimension": 3, "units": "mm", "tree": d}
+    return json.loads(_csgfit.sweeps_json(json.dumps(document)))

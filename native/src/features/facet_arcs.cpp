@@ -43,11 +43,13 @@ struct Chain {
 };
 
 // Facets joined by folds along one axis, from `seed`, each to its chain neighbours.
-std::map<int, std::vector<int>> grow_chain(const FacetMesh& fm, int seed, const Vec3& axis,
-                                           double max_fold, std::vector<char>& used) {
+// Facets joined by folds along one axis, from `seed`, each to its chain neighbours; `taken`
+// facets (in an arc already) stay out, and every fold followed is marked `seen` so that the
+// same chain is not grown again from another of its folds.
+std::map<int, std::vector<int>> grow_chain(const FacetMesh& fm, int seed, const Vec3& axis, double max_fold,
+                                           const std::vector<char>& taken, std::vector<char>& seen) {
   std::map<int, std::vector<int>> next;
   std::vector<int> stack{seed};
-  used[seed] = 1;
   next[seed];
   while (!stack.empty()) {
     const int f = stack.back();
@@ -56,16 +58,42 @@ std::map<int, std::vector<int>> grow_chain(const FacetMesh& fm, int seed, const 
       const Fold& fold = fm.folds[k];
       if (!along_axis(fm, fold, max_fold) || !parallel(fold.direction, axis, kSameAxis)) continue;
       const int g = fold.a == f ? fold.b : fold.a;
-      if (used[g] && !next.count(g)) continue;  // in another chain
+      if (taken[g]) continue;
+      seen[static_cast<std::size_t>(k)] = 1;
       next[f].push_back(g);
-      if (!used[g]) {
-        used[g] = 1;
+      if (!next.count(g)) {
         next[g];
         stack.push_back(g);
       }
     }
   }
   return next;
+}
+
+// The chain without its facets of more than two neighbours (a flat face several arcs meet, as a
+// bar's side meets the bosses at its ends), split into the runs that are left.
+std::vector<std::map<int, std::vector<int>>> simple_chains(const std::map<int, std::vector<int>>& next) {
+  std::vector<std::map<int, std::vector<int>>> out;
+  const auto simple = [&](int f) { return next.at(f).size() <= 2; };
+  std::map<int, bool> done;
+  for (const auto& entry : next) {
+    if (done[entry.first] || !simple(entry.first)) continue;
+    std::map<int, std::vector<int>> run;
+    std::vector<int> stack{entry.first};
+    done[entry.first] = true;
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      run[f];
+      for (int g : next.at(f)) {
+        if (!simple(g)) continue;
+        run[f].push_back(g);
+        if (!done[g]) done[g] = true, stack.push_back(g);
+      }
+    }
+    out.push_back(std::move(run));
+  }
+  return out;
 }
 
 // The chain as a path (or a cycle) when every facet has at most two neighbours in it. A path
@@ -100,13 +128,48 @@ std::vector<Vec3> points_of(const FacetMesh& fm, const std::vector<int>& facets)
   return pts;
 }
 
-// The circle of a run of facets, when one explains all their vertices.
+// The points across the axis where consecutive facets of the run meet: corners of the polygon
+// the run's sides belong to, on the circle exactly (a vertex that only one side has may be
+// where another surface cut the side, anywhere along it).
+std::vector<Vec3> corners_of(const FacetMesh& fm, const std::vector<int>& run) {
+  std::vector<Vec3> pts;
+  for (std::size_t k = 0; k + 1 < run.size(); ++k)
+    for (int i : fm.folds_of[run[k]])
+      if (fm.folds[i].a == run[k + 1] || fm.folds[i].b == run[k + 1]) pts.push_back(fm.folds[i].point);
+  return pts;
+}
+
+// Whether each facet of the run is one side of the circle's polygon: no vertex outside the
+// circle, and seen from the axis it spans no more than the run turns per side (a flat face
+// that meets the arc along a corner spans far more).
+bool sides_of(const FacetMesh& fm, const std::vector<int>& run, const Vec3& axis,
+              const AxisCircle& circle, double tolerance) {
+  double turn = 0;
+  for (std::size_t k = 0; k + 1 < run.size(); ++k)
+    turn = std::max(turn, std::acos(std::clamp(dot(fm.facets[run[k]].normal, fm.facets[run[k + 1]].normal), -1.0, 1.0)));
+  const double widest = 2 * turn + M_PI / 180;
+  for (int f : run) {
+    Vec3 first{0, 0, 0};
+    for (int v : fm.facets[f].vertices) {
+      const Vec3 r = reject(sub(Vec3{fm.mesh.vertices[v][0], fm.mesh.vertices[v][1], fm.mesh.vertices[v][2]}, circle.centre), axis);
+      if (norm(r) > circle.radius + tolerance) return false;
+      if (norm(first) == 0) first = r;
+      else if (std::acos(std::clamp(dot(normalized(first), normalized(r)), -1.0, 1.0)) > widest) return false;
+    }
+  }
+  return true;
+}
+
+// The circle of a run of facets, when one explains all their corners (all their vertices for
+// a run too short to have three corners) and each facet is a side of its polygon.
 bool circle_of(const FacetMesh& fm, const std::vector<int>& facets, const Vec3& axis,
                double tolerance, double longest, AxisCircle& circle) {
-  const std::vector<Vec3> pts = points_of(fm, facets);
-  if (pts.size() < 4) return false;
+  std::vector<Vec3> pts = corners_of(fm, facets);
+  if (pts.size() < 3) pts = points_of(fm, facets);
+  if (pts.size() < 3) return false;
   circle = fit_axis_circle(pts, pts.front(), axis);
-  return circle.ok && circle.max_error <= tolerance && circle.radius < longest;
+  return circle.ok && circle.max_error <= tolerance && circle.radius < longest &&
+         sides_of(fm, facets, axis, circle, tolerance);
 }
 
 double angle_about(const Vec3& v, const Vec3& u, const Vec3& w) { return std::atan2(dot(v, w), dot(v, u)); }
@@ -205,15 +268,20 @@ std::vector<FacetArc> find_facet_arcs(const FacetMesh& fm, const std::vector<cha
   for (const auto& v : fm.mesh.vertices)
     for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
   const double longest = norm(sub(hi, lo));
-  std::vector<char> used = used_before;
+  std::vector<char> taken = used_before, seen(fm.folds.size(), 0);
   std::vector<FacetArc> arcs;
-  for (const Fold& seed : fm.folds) {
-    if (used[seed.a] || used[seed.b] || !along_axis(fm, seed, max_fold_degrees)) continue;
-    const auto next = grow_chain(fm, seed.a, seed.direction, max_fold_degrees, used);
-    Chain chain;
-    chain.axis = seed.direction;
-    if (next.size() < 3 || !order_chain(fm, next, chain)) continue;
-    cut_into_arcs(fm, chain, tolerance, longest, arcs);
+  for (std::size_t k = 0; k < fm.folds.size(); ++k) {
+    const Fold& seed = fm.folds[k];
+    if (seen[k] || taken[seed.a] || taken[seed.b] || !along_axis(fm, seed, max_fold_degrees)) continue;
+    for (const auto& next : simple_chains(grow_chain(fm, seed.a, seed.direction, max_fold_degrees, taken, seen))) {
+      Chain chain;
+      chain.axis = seed.direction;
+      if (next.size() < 3 || !order_chain(fm, next, chain)) continue;
+      const std::size_t before = arcs.size();
+      cut_into_arcs(fm, chain, tolerance, longest, arcs);
+      for (std::size_t a = before; a < arcs.size(); ++a)
+        for (int f : arcs[a].facets) taken[f] = 1;
+    }
   }
   return arcs;
 }

@@ -23,12 +23,21 @@ using namespace linalg;
 // the axis (plus the file's tolerance): exact for the symmetric quads a revolve makes, a few
 // percent off for a CAD exporter's strips of triangles.
 constexpr double kMeetSlack = 0.05;
+// A revolution's axis is first fitted to the facets up to kSeedRings folds from a seed, until
+// kSeedFacets are in.
+constexpr int kSeedRings = 6;
+constexpr std::size_t kSeedFacets = 12;
 // Of the first facets around a seed, this share must meet one axis for a revolution to grow.
 constexpr double kSeedAgreement = 0.8;
-// A swept surface holds at least this many facets and goes this far about its axis (degrees):
-// fewer, and a few triangles of a CAD fan met some axis by chance.
-constexpr std::size_t kSweptFacets = 3;
+// A swept surface's facets face this many directions about its axis (OpenSCAD's fewest
+// fragments of a circle) and span this far about it (degrees).
+constexpr std::size_t kSweptDirections = 5;
 constexpr double kSweptDegrees = 20;
+// A facet of a swept surface faces as the surface does at its centroid, within half the fold to
+// its neighbours (a chord of the profile or of the turn) and this much more (degrees): the
+// normals of a surface that only looks swept about an axis (two crossed cylinders seen about
+// the axis across both) do not.
+constexpr double kNormalSlack = 2;
 // Fewest profile points an arc is read from: three always lie on some circle.
 constexpr std::size_t kArcPoints = 4;
 
@@ -42,6 +51,28 @@ Vec3 centroid_of(const FacetMesh& fm, int f) {
   for (int v : fm.facets[f].vertices)
     c = add(c, Vec3{fm.mesh.vertices[v][0], fm.mesh.vertices[v][1], fm.mesh.vertices[v][2]});
   return scale(c, 1.0 / static_cast<double>(fm.facets[f].vertices.size()));
+}
+
+// Normals all across one direction (a cylinder's, a flat ring's): the line complex is
+// singular; the axis is that direction through the point nearest all normal lines.
+Axis cylinder_axis(const FacetMesh& fm, const std::vector<int>& facets, const Eigen::Matrix3d& normals) {
+  Axis out;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(normals);
+  const Eigen::Vector3d d = eig.eigenvectors().col(0).normalized();
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (int f : facets) {
+    const Eigen::Vector3d n = view(fm.facets[f].normal);
+    const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - n * n.transpose() - d * d.transpose();
+    m += fm.facets[f].area * across;
+    b += fm.facets[f].area * across * view(centroid_of(fm, f));
+  }
+  const Eigen::Vector3d p = m.completeOrthogonalDecomposition().solve(b);
+  if (!p.allFinite() || !d.allFinite()) return out;
+  out.direction = to_vec3(d);
+  out.point = to_vec3(p);
+  out.ok = true;
+  return out;
 }
 
 // The line the facets' normal lines meet best: minimise sum w (a . (c x n) + abar . n)^2 with
@@ -70,6 +101,42 @@ Axis fit_axis(const FacetMesh& fm, const std::vector<int>& facets) {
   return out;
 }
 
+// The point nearest all the facets' normal lines (least squares): where they all meet for a
+// ball, or for one ring of a cone.
+Eigen::Vector3d nearest_to_normal_lines(const FacetMesh& fm, const std::vector<int>& facets) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (int f : facets) {
+    const Eigen::Vector3d n = view(fm.facets[f].normal);
+    const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - n * n.transpose();
+    m += fm.facets[f].area * across;
+    b += fm.facets[f].area * across * view(centroid_of(fm, f));
+  }
+  return m.completeOrthogonalDecomposition().solve(b);
+}
+
+// When all normal lines pass through one point, every line through it meets them all and the
+// line complex cannot choose; the axis a ring of facets turns about is then the direction of
+// their normals' scatter unlike the other two (a cone's normals keep one angle to it).
+Axis symmetry_axis(const FacetMesh& fm, const std::vector<int>& facets, const Eigen::Matrix3d& scatter) {
+  Axis out;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+  const Eigen::Vector3d v = eig.eigenvalues();
+  int odd = 0;
+  double apart = -1;
+  for (int k = 0; k < 3; ++k) {
+    const double others = 0.5 * (v.sum() - v(k));
+    if (std::abs(v(k) - others) > apart) apart = std::abs(v(k) - others), odd = k;
+  }
+  const Eigen::Vector3d d = eig.eigenvectors().col(odd).normalized();
+  const Eigen::Vector3d p = nearest_to_normal_lines(fm, facets);
+  if (!d.allFinite() || !p.allFinite()) return out;
+  out.direction = to_vec3(d);
+  out.point = to_vec3(p);
+  out.ok = true;
+  return out;
+}
+
 double distance_to_axis(const Axis& axis, const Vec3& p) { return norm(reject(sub(p, axis.point), axis.direction)); }
 
 // Whether the facet's normal line meets the axis (a flat ring across the axis always does).
@@ -81,11 +148,15 @@ bool meets(const FacetMesh& fm, int f, const Axis& axis, double tolerance) {
   return std::abs(dot(sub(c, axis.point), across)) / norm(across) <= reach;
 }
 
+Axis best_axis(const FacetMesh& fm, const std::vector<int>& facets, double tolerance);
+
 // The facets of `group` reachable from `seed` whose normal lines meet one axis.
 std::vector<int> grow_revolution(const FacetMesh& fm, const std::vector<char>& in_group, int seed,
                                  const std::vector<char>& used, double tolerance, Axis& axis) {
+  // Enough of the surface around the seed to fix an axis: a 24 degree strip of a cone
+  // leaves it loose, so rings are added until a dozen facets are in.
   std::vector<int> near{seed};
-  for (int ring = 0; ring < 2; ++ring) {
+  for (int ring = 0; ring < kSeedRings && near.size() < kSeedFacets; ++ring) {
     const std::size_t count = near.size();
     for (std::size_t i = 0; i < count; ++i)
       for (int k : fm.folds_of[near[i]]) {
@@ -94,7 +165,7 @@ std::vector<int> grow_revolution(const FacetMesh& fm, const std::vector<char>& i
       }
   }
   if (near.size() < 4) return {};
-  axis = fit_axis(fm, near);
+  axis = best_axis(fm, near, tolerance);
   std::size_t agree = 0;
   for (int f : near) agree += axis.ok && meets(fm, f, axis, tolerance);
   if (!axis.ok || static_cast<double>(agree) < kSeedAgreement * static_cast<double>(near.size())) return {};
@@ -108,7 +179,7 @@ std::vector<int> grow_revolution(const FacetMesh& fm, const std::vector<char>& i
       seen[g] = 1;
       if (meets(fm, g, axis, tolerance)) members.push_back(g);
     }
-  const Axis refit = fit_axis(fm, members);
+  const Axis refit = best_axis(fm, members, tolerance);
   if (refit.ok) axis = refit;
   return members;
 }
@@ -141,6 +212,22 @@ Profile trace_profile(const FacetMesh& fm, const std::vector<int>& facets, const
     if (ids.size() == 2) p.edges[{ids[0], ids[1]}].push_back(f);
   }
   return p;
+}
+
+// Of the axes the facets may turn about (the line complex's, the symmetry axis through the
+// normals' common point, the cylinder's), the one their vertices trace the fewest profile
+// points about: a ring of facets about its true axis gives two.
+Axis best_axis(const FacetMesh& fm, const std::vector<int>& facets, double tolerance) {
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (int f : facets) scatter += fm.facets[f].area * view(fm.facets[f].normal) * view(fm.facets[f].normal).transpose();
+  Axis best;
+  std::size_t fewest = 0;
+  for (const Axis& a : {fit_axis(fm, facets), symmetry_axis(fm, facets, scatter), cylinder_axis(fm, facets, scatter)}) {
+    if (!a.ok) continue;
+    const std::size_t points = trace_profile(fm, facets, a, tolerance).points.size();
+    if (!best.ok || points < fewest) best = a, fewest = points;
+  }
+  return best;
 }
 
 // Walks of the profile graph: each a run of points from an end (or around a loop).
@@ -251,16 +338,32 @@ bool swept_surface(const Piece& piece, const Axis& axis, double tol, MeshSurface
   return true;
 }
 
-// How far the facets go about the axis: the largest angle between two of their normals'
-// directions across it (enough to tell a ring from a stray triangle or two).
-double sweep_degrees(const FacetMesh& fm, const std::vector<int>& facets, const Axis& axis) {
-  double widest = 0;
+// Whether the facets go far enough about the axis, in enough directions, to be swept about it:
+// a stray triangle or two of a CAD fan, or four faces of a square ring (two crossed cylinders
+// seen about the axis across both), meet an axis by chance.
+bool swept_about(const FacetMesh& fm, const std::vector<int>& facets, const Axis& axis) {
   const Vec3 first = normalized(reject(fm.facets[facets.front()].normal, axis.direction));
+  const Vec3 second = cross(axis.direction, first);
+  std::vector<double> angles;
   for (int f : facets) {
     const Vec3 d = normalized(reject(fm.facets[f].normal, axis.direction));
-    widest = std::max(widest, std::acos(std::clamp(dot(first, d), -1.0, 1.0)) * 180 / M_PI);
+    angles.push_back(std::atan2(dot(d, second), dot(d, first)) * 180 / M_PI);
   }
-  return widest;
+  std::sort(angles.begin(), angles.end());
+  angles.erase(std::unique(angles.begin(), angles.end(), [](double a, double b) { return b - a < 1; }), angles.end());
+  return angles.size() >= kSweptDirections && angles.back() - angles.front() >= kSweptDegrees;
+}
+
+// Whether the facets face as the swept surface does (see kNormalSlack).
+bool faces_as_swept(const FacetMesh& fm, const std::vector<int>& facets, const SurfacePatch& shape) {
+  for (int f : facets) {
+    double fold = 0;
+    for (int k : fm.folds_of[f]) fold = std::max(fold, fm.folds[k].degrees);
+    const double limit = std::min(fold, 60.0) / 2 + kNormalSlack;
+    const double c = std::abs(dot(fm.facets[f].normal, surface_normal(shape, centroid_of(fm, f))));
+    if (c < std::cos(limit * M_PI / 180)) return false;
+  }
+  return true;
 }
 
 // Cuts each walk of the profile into the longest lines and arcs, each a surface of its facets.
@@ -280,7 +383,8 @@ void cut_profile(const FacetMesh& fm, const Profile& p, const Axis& axis, double
       MeshSurface s;
       if (swept_surface(best, axis, tol, s)) {
         const std::vector<int> facets = swept_facets(p, w, i, end);
-        if (facets.size() < kSweptFacets || sweep_degrees(fm, facets, axis) < kSweptDegrees) {
+        if (!swept_about(fm, facets, axis) ||
+            !faces_as_swept(fm, facets, s.shape)) {
           i = end;
           continue;
         }

@@ -114,6 +114,7 @@ void find_folds(FacetMesh& fm, const std::map<EdgeKey, std::vector<int>>& edges)
     Fold f;
     f.a = pair.first, f.b = pair.second;
     f.direction = s.direction;
+    f.point = s.first;
     f.length = s.length;
     f.straight = s.straight;
     f.convex = s.convex;

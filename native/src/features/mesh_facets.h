@@ -23,6 +23,7 @@ struct Facet {
 struct Fold {
   int a = 0, b = 0;          ///< facet indices, a < b
   Vec3 direction{0, 0, 1};   ///< unit, along the shared edges (the longest one's)
+  Vec3 point{0, 0, 0};       ///< a vertex of the shared edges
   double length = 0;         ///< of the shared edges
   double degrees = 0;        ///< angle between the two normals
   bool convex = true;        ///< the solid's angle across the fold is below 180 degrees

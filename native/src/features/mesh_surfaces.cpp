@@ -21,6 +21,13 @@ constexpr double kPolygonFold = 72.5;
 // A facet of a curved region nothing explains is still a flat face of its own when it holds this
 // share of the region's area (a face beside a free-form fillet), not one strip of the curve.
 constexpr double kFlatShare = 0.05;
+// A segmentation has found the part's structure when this share of its area lies on surfaces
+// of more than kFewTriangles triangle; else the tolerance grows kToleranceStep times, at most
+// kCoarserTolerances times (2e-5 of the diagonal up to about 1e-2).
+constexpr double kStructuredShare = 0.6;
+constexpr std::size_t kFewTriangles = 1;
+constexpr double kToleranceStep = 8;
+constexpr int kCoarserTolerances = 3;
 
 Vec3 vertex(const TriangleMesh& m, int v) { return {m.vertices[v][0], m.vertices[v][1], m.vertices[v][2]}; }
 
@@ -79,6 +86,25 @@ std::vector<std::vector<int>> smooth_groups(const FacetMesh& fm, const std::vect
   return groups;
 }
 
+// The angle about the axis the triangles cover: 360 less the widest gap between their centroids.
+double sweep_about_axis(const FacetMesh& fm, const MeshSurface& s) {
+  const Vec3 d = s.shape.axis;
+  const Vec3 u = normalized(reject(std::abs(d[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}, d));
+  const Vec3 w = cross(d, u);
+  std::vector<double> angles;
+  for (int t : s.triangles) {
+    Vec3 c{0, 0, 0};
+    for (int v : fm.mesh.triangles[t]) c = add(c, scale(vertex(fm.mesh, v), 1.0 / 3));
+    const Vec3 r = reject(sub(c, s.shape.point), d);
+    angles.push_back(std::atan2(dot(r, w), dot(r, u)));
+  }
+  if (angles.size() < 2) return 0;
+  std::sort(angles.begin(), angles.end());
+  double gap = angles.front() + 2 * M_PI - angles.back();
+  for (std::size_t k = 0; k + 1 < angles.size(); ++k) gap = std::max(gap, angles[k + 1] - angles[k]);
+  return (2 * M_PI - gap) * 180 / M_PI;
+}
+
 // Orientation and extent from the surface's own triangles: a plane's normal out of the solid, a
 // curved surface's side (the solid inside it or outside), the reach along its axis, the largest
 // distance of a vertex from it.
@@ -102,6 +128,7 @@ void settle(const FacetMesh& fm, MeshSurface& s) {
     s.shape.convex = true;
   } else {
     s.shape.convex = outward > 0;
+    if (s.shape.kind != SurfaceKind::Sphere) s.sweep = sweep_about_axis(fm, s);
   }
 }
 
@@ -112,7 +139,11 @@ bool same_surface(const MeshSurface& a, const MeshSurface& b, double tol) {
     return dot(p.axis, q.axis) > 1 - 1e-9 && std::abs(dot(sub(q.point, p.point), p.axis)) <= tol;
   if (p.kind == SurfaceKind::Cylinder) {
     const bool on_axis = norm(cross(p.axis, q.axis)) <= 1e-6 && norm(reject(sub(q.point, p.point), p.axis)) <= tol;
-    const bool same_phase = a.sides == 0 || norm(cross(a.vertex_direction, b.vertex_direction)) <= 1e-4;
+    // One polygon's vertices are 360 / n apart: any two of them name the same phase.
+    const double turn = std::atan2(dot(cross(a.vertex_direction, b.vertex_direction), p.axis),
+                                   dot(a.vertex_direction, b.vertex_direction));
+    const double step = a.sides > 0 ? 2 * M_PI / a.sides : 1;
+    const bool same_phase = a.sides == 0 || std::abs(std::remainder(turn, step)) <= 1e-4;
     return on_axis && same_phase && std::abs(p.radius - q.radius) <= tol;
   }
   return false;  // spheres, cones and tori come whole from one profile
@@ -157,13 +188,11 @@ void absorb_pole_caps(const FacetMesh& fm, std::vector<MeshSurface>& found, std:
   }
 }
 
-}  // namespace
-
-MeshSurfaces segment_mesh_surfaces(const TriangleMesh& mesh, const MeshSurfaceOptions& options) {
+// The segmentation at one tolerance (model units).
+MeshSurfaces segment_at(const TriangleMesh& mesh, double tol, const MeshSurfaceOptions& options) {
   MeshSurfaces out;
   out.diagonal = diagonal_of(mesh);
-  out.tolerance = std::max(options.tolerance * out.diagonal, 1e-12);
-  const double tol = out.tolerance;
+  out.tolerance = tol;
   const FacetMesh fm = build_facets(mesh, tol);
   std::vector<char> used(fm.facets.size(), 0);
   std::vector<MeshSurface> found;
@@ -172,9 +201,18 @@ MeshSurfaces segment_mesh_surfaces(const TriangleMesh& mesh, const MeshSurfaceOp
   for (const auto& group : smooth_groups(fm, used, options.smooth_fold_degrees))
     if (group.size() >= 4)
       for (MeshSurface& s : find_revolutions(fm, group, tol, used)) found.push_back(std::move(s));
-  // Then prisms whose sides fold by more than a smooth surface does (hexagons, octagons).
+  // Then cylinders about other axes where they meet (two crossed bores), and prisms whose
+  // sides fold by more than a smooth surface does (hexagons, octagons).
   for (const FacetArc& arc : find_facet_arcs(fm, used, 2 * tol, std::max(options.smooth_fold_degrees, kPolygonFold))) {
-    if (arc.sides == 0) continue;  // flat faces on a circle by chance
+    // The turns between the arc's own facets: a round surface's are small.
+    double widest = 0;
+    for (int f : arc.facets)
+      for (int k : fm.folds_of[f]) {
+        const int other = fm.folds[k].a == f ? fm.folds[k].b : fm.folds[k].a;
+        if (std::find(arc.facets.begin(), arc.facets.end(), other) != arc.facets.end())
+          widest = std::max(widest, fm.folds[k].degrees);
+      }
+    if (arc.sides == 0 && widest > options.smooth_fold_degrees) continue;  // flat faces on a circle by chance
     found.push_back(cylinder_of(fm, arc));
     for (int f : arc.facets) used[f] = 1;
   }
@@ -194,7 +232,37 @@ MeshSurfaces segment_mesh_surfaces(const TriangleMesh& mesh, const MeshSurfaceOp
   for (MeshSurface& s : found) settle(fm, s);
   merge_duplicates(fm, found, 2 * tol);
   out.surfaces = std::move(found);
+  out.mesh = fm.mesh;
   return out;
+}
+
+// The share of the surface that lies on surfaces of more than a few triangles: how much
+// structure a segmentation found (on a noisy mesh every triangle is a plane of its own).
+double structured_share(const MeshSurfaces& s) {
+  double structured = 0, total = 0;
+  for (const MeshSurface& m : s.surfaces) {
+    total += m.area;
+    if (m.triangles.size() > kFewTriangles) structured += m.area;
+  }
+  return total > 0 ? structured / total : 0;
+}
+
+}  // namespace
+
+MeshSurfaces segment_mesh_surfaces(const TriangleMesh& mesh, const MeshSurfaceOptions& options) {
+  const double diagonal = diagonal_of(mesh);
+  double tol = std::max(options.tolerance * diagonal, 1e-12);
+  MeshSurfaces best = segment_at(mesh, tol, options);
+  // A mesh that is not exact (a scan, a decimated or smoothed file) has faces only at a coarser
+  // tolerance: try coarser ones while most of the surface has no structure.
+  best.structured = structured_share(best);
+  for (int step = 0; step < kCoarserTolerances && best.structured < kStructuredShare; ++step) {
+    tol *= kToleranceStep;
+    MeshSurfaces coarser = segment_at(mesh, tol, options);
+    coarser.structured = structured_share(coarser);
+    if (coarser.structured > best.structured) best = std::move(coarser);
+  }
+  return best;
 }
 
 }  // namespace csgfit

@@ -1,6 +1,7 @@
 #include "csgfit/model/shared_dimensions.h"
 
 #include <algorithm>
+#include <functional>
 #include <initializer_list>
 #include <map>
 #include <optional>
@@ -27,13 +28,14 @@ bool is_round(PrimitiveKind k) { return k == PrimitiveKind::Circle || k == Primi
 // Uses grouped by a key; groups of one are dropped, the rest ordered by their first use so that
 // names follow the order of the file.
 template <typename Key, typename P, typename KeyOf>
-std::vector<std::vector<DimensionUse>> equal_groups(const std::vector<const P*>& ls,
-                                                    std::initializer_list<DimensionField> fields,
-                                                    KeyOf key_of) {
+std::vector<std::vector<DimensionUse>> equal_groups(
+    const std::vector<const P*>& ls, std::initializer_list<DimensionField> fields, KeyOf key_of,
+    const std::function<bool(const DimensionUse&)>& drawn = {}) {
   std::map<Key, std::vector<DimensionUse>> by_key;
   for (std::size_t i = 0; i < ls.size(); ++i)
     for (DimensionField f : fields)
-      if (auto key = key_of(*ls[i], f)) by_key[*key].push_back({i, f});
+      if (auto key = key_of(*ls[i], f); key && (!drawn || drawn({i, f})))
+        by_key[*key].push_back({i, f});
   std::vector<std::vector<DimensionUse>> groups;
   for (auto& [key, members] : by_key)
     if (members.size() > 1) groups.push_back(std::move(members));
@@ -135,6 +137,11 @@ std::vector<SharedDimension> shared_dimensions(const Node& tree) {
 }
 
 std::vector<SharedDimension> shared_dimensions(const Node3D& tree) {
+  return shared_dimensions(tree, {});
+}
+
+std::vector<SharedDimension> shared_dimensions(
+    const Node3D& tree, const std::function<bool(const DimensionUse&)>& drawn) {
   const std::vector<const Primitive3D*> ls = leaves(tree);
   const std::vector<bool> holes = subtracted_leaves(tree);
   auto all = [&](const std::vector<DimensionUse>& g, auto pred) {
@@ -151,14 +158,14 @@ std::vector<SharedDimension> shared_dimensions(const Node3D& tree) {
              (p.kind == PrimitiveKind3D::Cylinder || p.kind == PrimitiveKind3D::Sphere) &&
              !p.is_polygonal();
          return round ? std::optional<double>(p.dims[0]) : std::nullopt;
-       })) {
+       }, drawn)) {
     const char* base = all(g, sphere) ? "sphere_r" : !all(g, cylinder) ? "round_r"
                        : all(g, hole)  ? "hole_r" : "cyl_r";
     out.push_back({names.next(base), std::move(g)});
   }
   for (auto& g : equal_groups<double>(ls, {DimensionField::Length}, [](const Primitive3D& p, auto) {
          return p.kind == PrimitiveKind3D::Cylinder ? std::optional<double>(p.dims[2]) : std::nullopt;
-       }))
+       }, drawn))
     out.push_back({names.next(all(g, hole) ? "hole_h" : "cyl_h"), std::move(g)});
   return out;
 }

@@ -17,6 +17,7 @@
 #include "csgfit/refine/local_opt.h"
 #include "csgfit/refine/surface_fit3d.h"
 #include "csgfit/seed/surface_candidates.h"
+#include "mesh_construction.h"
 #include "pipeline/fit_request.h"
 
 namespace csgfit {
@@ -24,6 +25,10 @@ namespace csgfit {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The construction from the mesh's faces may take this share of --time; it is deterministic
+// and takes seconds at most, the rest is the search's when it is needed.
+constexpr double kConstructShare = 0.5;
 
 // The mesh in the fitting frame (frame = R^T mesh) and its bounding box there.
 struct FramedMesh {
@@ -156,23 +161,26 @@ int margin_for(const SurfaceSeeds& seeds, const VoxelGrid& grid) {
   return static_cast<int>(std::ceil(std::min(reach, cap) / h)) + 1;
 }
 
-// After the search: least squares against the surface, the pattern search and the snaps on
-// the fine grid (or the search's own), counting two staggered lattices. Updates out.fit.
-void polish(MeshFitResult& out, const TriangleMesh& local, const VoxelGrid& coarse,
-            const VoxelizeOptions& coarse_options, double h_fine, std::uint64_t seed,
-            Clock::time_point deadline) {
-  VoxelGrid fine;
+// The polish's grids: the fine grid of auto_voxel_size (or the search's own when there is
+// none) and the same part on a lattice staggered by 0.6 voxel.
+struct PolishGrids {
+  VoxelGrid fine, staggered;
+  bool on_fine = false;
+  const VoxelGrid& grid(const VoxelGrid& coarse) const { return on_fine ? fine : coarse; }
+};
+
+PolishGrids polish_grids(const TriangleMesh& local, const VoxelGrid& coarse,
+                         const VoxelizeOptions& coarse_options, double h_fine) {
+  PolishGrids g;
   VoxelizeOptions fopt;
   if (h_fine > 0) {
     fopt.voxel_size = h_fine;
     // As wide a margin as the coarse grid's: a face the search left anywhere in a coarse
     // voxel of margin must not count as beyond the fine grid (Mismatch::outside).
     fopt.margin = 1 + static_cast<int>(std::ceil(coarse_options.margin * coarse.voxel_size() / h_fine));
-    fine = voxelize(local, fopt);
+    g.fine = voxelize(local, fopt);
   }
-  const bool on_fine = h_fine > 0 && fine.count() > 0;
-  const VoxelGrid& grid = on_fine ? fine : coarse;
-  const double ratio = coarse.voxel_size() / grid.voxel_size();
+  g.on_fine = h_fine > 0 && g.fine.count() > 0;
   // The polish counts voxels on two staggered lattices: on one, the search leaves sheets
   // thinner than a voxel between its rows of centres at no cost (model 167: a disc 0.045
   // thick over the whole part, 7 % of its volume in the rendering and 0 voxels in the fit).
@@ -183,9 +191,23 @@ void polish(MeshFitResult& out, const TriangleMesh& local, const VoxelGrid& coar
   // paid for them with whole layers (a 20 x 10 x 5 box at 48 voxels: IoU 0.961). At 0.6 the
   // staggered centres stay a tenth of a voxel off such faces, and no sheet thicker than 0.6
   // voxel hides between the two lattices' rows.
-  VoxelizeOptions sopt = on_fine ? fopt : coarse_options;
+  VoxelizeOptions sopt = g.on_fine ? fopt : coarse_options;
   sopt.lattice_shift = 0.6;
-  const VoxelGrid staggered = voxelize(local, sopt);
+  g.staggered = voxelize(local, sopt);
+  return g;
+}
+
+// After the search: least squares against the surface, the pattern search and the snaps on
+// the fine grid (or the search's own), counting two staggered lattices. Updates out.fit.
+void polish(MeshFitResult& out, const TriangleMesh& local, const VoxelGrid& coarse,
+            const VoxelizeOptions& coarse_options, double h_fine, std::uint64_t seed,
+            Clock::time_point deadline) {
+  PolishGrids grids = polish_grids(local, coarse, coarse_options, h_fine);
+  const bool on_fine = grids.on_fine;
+  VoxelGrid& fine = grids.fine;
+  const VoxelGrid& grid = grids.grid(coarse);
+  const VoxelGrid& staggered = grids.staggered;
+  const double ratio = coarse.voxel_size() / grid.voxel_size();
   const double lattice_voxels = static_cast<double>(grid.count() + staggered.count());
   Node3D tree = out.fit.tree;
   TreeEvaluator3D ev(grid, staggered, tree);
@@ -307,8 +329,28 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
       mesh_options.polish_share > 0 && h.fine > 0 && h.fine < 0.8 * coarse.voxel_size();
   FitOptions3D search = options;
   search.optimize_tree = false;  // here, after the polish below
+  if (mesh_options.construct) {
+    const PolishGrids grids = polish_grids(local.mesh, coarse, vopt, polish_fine ? h.fine : 0);
+    const VoxelGrid& grid = grids.grid(coarse);
+    ConstructedFit built = construct_mesh_fit(local.mesh, grid, grids.staggered, options,
+                                              at_fraction(start, options.time_limit, kConstructShare));
+    if (built.explains) {
+      out.fit = std::move(built.fit);
+      out.grid = grid;
+      if (options.optimize_tree)
+        optimize_last(out.fit.tree, out.fit.stats, options.seed,
+                      [&](const Node3D& a, const Node3D& b) { return render(a, grid) == render(b, grid); });
+      rotate_tree(out.fit.tree, out.frame);
+      out.fit.stats.seconds = elapsed();
+      return out;
+    }
+    // What the faces did not explain is the search's to finish, from the built tree.
+    if (built.built) search.surface.trees.push_back(std::move(built.fit.tree));
+  }
   if (mesh_options.surface_seeds) {
-    search.surface = surface_seeds(local.mesh, coarse, options, cancel);
+    SurfaceSeeds read = surface_seeds(local.mesh, coarse, options, cancel);
+    read.trees.insert(read.trees.begin(), search.surface.trees.begin(), search.surface.trees.end());
+    search.surface = std::move(read);
     if (const int extra = margin_for(search.surface, coarse); extra > 0) {
       vopt.margin += extra;
       coarse = voxelize(local.mesh, vopt);

@@ -6,40 +6,172 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
-/* [Shared dimensions] */
-// radius of cylinders 1 and 2
-cyl_r = 0.2583; // [0:0.01:20]
+/* [Cone 1] */
+cone_1_cx = 0.006; // [-50:0.01:50]
+cone_1_cy = -0.0017; // [-50:0.01:50]
+cone_1_cz = 0; // [-50:0.01:50]
+cone_1_rot_x = 0.021453; // [-180:0.1:180]
+cone_1_rot_y = 179.919014; // [-180:0.1:180]
+cone_1_r1 = 0.3757; // [0:0.01:50]
+cone_1_r2 = 10.4042; // [0:0.01:50]
+cone_1_h = 10.0018; // [0:0.01:50]
 
-/* [Cylinder 1] */
-cyl_1_cx = -0.0008; // [-20:0.01:20]
-cyl_1_cy = 0; // [-20:0.01:20]
-cyl_1_cz = 0.0112; // [-20:0.01:20]
-cyl_1_rot_y = 180; // [-180:0.1:180]
-cyl_1_h = 9.4906; // [0:0.01:20]
-
-/* [Cylinder 2] */
-cyl_2_cx = -0.0008; // [-20:0.01:20]
-cyl_2_cy = 0; // [-20:0.01:20]
-cyl_2_cz = -0.239; // [-20:0.01:20]
-cyl_2_rot_y = 180; // [-180:0.1:180]
-cyl_2_h = 9.5219; // [0:0.01:20]
+/* [Cone 2] */
+cone_2_cx = 0.006; // [-50:0.01:50]
+cone_2_cy = -0.0017; // [-50:0.01:50]
+cone_2_cz = 0; // [-50:0.01:50]
+cone_2_rot_x = 0.021453; // [-180:0.1:180]
+cone_2_rot_y = 179.919014; // [-180:0.1:180]
+cone_2_r1 = 0.3754; // [0:0.01:50]
+cone_2_r2 = 10.3693; // [0:0.01:50]
+cone_2_h = 10.0018; // [0:0.01:50]
 
 /* [Cylinder 3] */
-cyl_3_cx = -0.0008; // [-20:0.01:20]
-cyl_3_cy = 0; // [-20:0.01:20]
-cyl_3_cz = 4.7438; // [-20:0.01:20]
-cyl_3_rot_y = 180; // [-180:0.1:180]
-cyl_3_r = 0.419; // [0:0.01:20]
-cyl_3_h = 0.5123; // [0:0.01:20]
+cyl_3_cx = -0.0008; // [-50:0.01:50]
+cyl_3_cy = 0; // [-50:0.01:50]
+cyl_3_cz = 0; // [-50:0.01:50]
+cyl_3_r = 0.4196; // [0:0.01:50]
+cyl_3_h = 10; // [0:0.01:50]
 
-/* [Ellipsoid 4] */
-ellipsoid_4_cx = -0.0001; // [-20:0.01:20]
-ellipsoid_4_cy = 0.0031; // [-20:0.01:20]
-ellipsoid_4_cz = 4.7537; // [-20:0.01:20]
-ellipsoid_4_rot_y = -90; // [-180:0.1:180]
-ellipsoid_4_rx = 1.1419; // [0:0.01:20]
-ellipsoid_4_ry = 0.235; // [0:0.01:20]
-ellipsoid_4_rz = 0.2367; // [0:0.01:20]
+/* [Cone 4] */
+cone_4_cx = 0.0766; // [-50:0.01:50]
+cone_4_cy = -0.0349; // [-50:0.01:50]
+cone_4_cz = -0.0015; // [-50:0.01:50]
+cone_4_rot_x = 0.421836; // [-180:0.1:180]
+cone_4_rot_y = 0.935381; // [-180:0.1:180]
+cone_4_r1 = 0.2023; // [0:0.01:50]
+cone_4_r2 = 10.4812; // [0:0.01:50]
+cone_4_h = 10.0223; // [0:0.01:50]
+
+/* [Cone 5] */
+cone_5_cx = 0.0766; // [-50:0.01:50]
+cone_5_cy = -0.0349; // [-50:0.01:50]
+cone_5_cz = -0.0015; // [-50:0.01:50]
+cone_5_rot_x = 0.421836; // [-180:0.1:180]
+cone_5_rot_y = 0.935381; // [-180:0.1:180]
+cone_5_r1 = 0.202; // [0:0.01:50]
+cone_5_r2 = 10.5697; // [0:0.01:50]
+cone_5_h = 10.0223; // [0:0.01:50]
+
+/* [Cone 6] */
+cone_6_cx = 0.0766; // [-50:0.01:50]
+cone_6_cy = -0.0349; // [-50:0.01:50]
+cone_6_cz = -0.0015; // [-50:0.01:50]
+cone_6_rot_x = 0.421836; // [-180:0.1:180]
+cone_6_rot_y = 0.935381; // [-180:0.1:180]
+cone_6_r1 = 0.2043; // [0:0.01:50]
+cone_6_r2 = 9.9033; // [0:0.01:50]
+cone_6_h = 10.0223; // [0:0.01:50]
+
+/* [Box 7] */
+box_7_cx = -0.0802; // [-50:0.01:50]
+box_7_cy = -0.0906; // [-50:0.01:50]
+box_7_cz = 0.1251; // [-50:0.01:50]
+box_7_rot_x = 147.510472; // [-180:0.1:180]
+box_7_rot_y = 45.958544; // [-180:0.1:180]
+box_7_rot_z = 48.462462; // [-180:0.1:180]
+box_7_size_x = 7.8326; // [0:0.01:50]
+box_7_size_y = 4.9047; // [0:0.01:50]
+box_7_size_z = 6.6828; // [0:0.01:50]
+
+/* [Box 8] */
+box_8_cx = -0.0708; // [-50:0.01:50]
+box_8_cy = -0.1044; // [-50:0.01:50]
+box_8_cz = 0.1218; // [-50:0.01:50]
+box_8_rot_x = 154.779594; // [-180:0.1:180]
+box_8_rot_y = 44.00136; // [-180:0.1:180]
+box_8_rot_z = 55.862197; // [-180:0.1:180]
+box_8_size_x = 7.6062; // [0:0.01:50]
+box_8_size_y = 4.2557; // [0:0.01:50]
+box_8_size_z = 7.2753; // [0:0.01:50]
+
+/* [Box 9] */
+box_9_cx = -0.0527; // [-50:0.01:50]
+box_9_cy = -0.1003; // [-50:0.01:50]
+box_9_cz = 0.1173; // [-50:0.01:50]
+box_9_rot_x = 159.319178; // [-180:0.1:180]
+box_9_rot_y = 45.99254; // [-180:0.1:180]
+box_9_rot_z = 62.308013; // [-180:0.1:180]
+box_9_size_x = 7.8148; // [0:0.01:50]
+box_9_size_y = 3.6228; // [0:0.01:50]
+box_9_size_z = 7.2682; // [0:0.01:50]
+
+/* [Box 10] */
+box_10_cx = -0.0423; // [-50:0.01:50]
+box_10_cy = -0.1062; // [-50:0.01:50]
+box_10_cz = 0.1104; // [-50:0.01:50]
+box_10_rot_x = 164.524838; // [-180:0.1:180]
+box_10_rot_y = 44.016497; // [-180:0.1:180]
+box_10_rot_z = 68.276001; // [-180:0.1:180]
+box_10_size_x = 7.5754; // [0:0.01:50]
+box_10_size_y = 3.08; // [0:0.01:50]
+box_10_size_z = 7.6596; // [0:0.01:50]
+
+/* [Box 11] */
+box_11_cx = 0.0547; // [-50:0.01:50]
+box_11_cy = 0.1036; // [-50:0.01:50]
+box_11_cz = 0.1173; // [-50:0.01:50]
+box_11_rot_x = -20.468348; // [-180:0.1:180]
+box_11_rot_y = 45.027852; // [-180:0.1:180]
+box_11_rot_z = -117.816401; // [-180:0.1:180]
+box_11_size_x = 7.7084; // [0:0.01:50]
+box_11_size_y = 3.6468; // [0:0.01:50]
+box_11_size_z = 7.3791; // [0:0.01:50]
+
+/* [Box 12] */
+box_12_cx = 0.0277; // [-50:0.01:50]
+box_12_cy = 0.0997; // [-50:0.01:50]
+box_12_cz = 0.102; // [-50:0.01:50]
+box_12_rot_x = -11.030605; // [-180:0.1:180]
+box_12_rot_y = 44.594702; // [-180:0.1:180]
+box_12_rot_z = -105.517329; // [-180:0.1:180]
+box_12_size_x = 7.6167; // [0:0.01:50]
+box_12_size_y = 2.4897; // [0:0.01:50]
+box_12_size_z = 7.7125; // [0:0.01:50]
+
+/* [Box 13] */
+box_13_cx = 0.0234; // [-50:0.01:50]
+box_13_cy = 0.095; // [-50:0.01:50]
+box_13_cz = 0.0995; // [-50:0.01:50]
+box_13_rot_x = -9.967559; // [-180:0.1:180]
+box_13_rot_y = 45.481979; // [-180:0.1:180]
+box_13_rot_z = -103.845936; // [-180:0.1:180]
+box_13_size_x = 7.7091; // [0:0.01:50]
+box_13_size_y = 2.3275; // [0:0.01:50]
+box_13_size_z = 7.6368; // [0:0.01:50]
+
+/* [Box 14] */
+box_14_cx = -0.0008; // [-50:0.01:50]
+box_14_cy = 0; // [-50:0.01:50]
+box_14_cz = 0; // [-50:0.01:50]
+box_14_size_x = 0.8392; // [0:0.01:50]
+box_14_size_y = 0.8392; // [0:0.01:50]
+box_14_size_z = 10; // [0:0.01:50]
+
+/* [Cylinder 15] */
+cyl_15_cx = -0.0008; // [-50:0.01:50]
+cyl_15_cy = 0; // [-50:0.01:50]
+cyl_15_cz = -0.1218; // [-50:0.01:50]
+cyl_15_r = 0.2583; // [0:0.01:50]
+cyl_15_h = 9.7565; // [0:0.01:50]
+
+/* [Box 16] */
+box_16_cx = 0; // [-50:0.01:50]
+box_16_cy = 0; // [-50:0.01:50]
+box_16_cz = 4.7438; // [-50:0.01:50]
+box_16_size_x = 1.0111; // [0:0.01:50]
+box_16_size_y = 1.0111; // [0:0.01:50]
+box_16_size_z = 0.5123; // [0:0.01:50]
+
+/* [Cylinder 17] */
+cyl_17_cx = -0.0008; // [-50:0.01:50]
+cyl_17_cy = 0; // [-50:0.01:50]
+cyl_17_cz = 4.9255; // [-50:0.01:50]
+cyl_17_rot_x = 180; // [-180:0.1:180]
+cyl_17_rot_z = 89.999997; // [-180:0.1:180]
+cyl_17_r = 0.2575; // [0:0.01:50]
+cyl_17_h = 0.338; // [0:0.01:50]
+cyl_17_sides = 6; // [3:1:64]
 
 /* [Hidden] */
 $fn = segments;
@@ -48,24 +180,29 @@ $fn = segments;
 // this radius gives the polygon the fitted circle's area instead.
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
-// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with their
-// vertices on the sphere: a stack of frusta. fn_sphere_volume is that polyhedron's
-// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the fitted sphere's volume.
-function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :
-  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),
-      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))
-  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);
-function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
-  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
-
 module csg_high_res() {
-  union() {
-    translate([cyl_1_cx, cyl_1_cy, cyl_1_cz]) rotate([0, cyl_1_rot_y, 0]) cylinder(h = cyl_1_h, r = fn_r(cyl_r), center = true);
-    translate([cyl_2_cx, cyl_2_cy, cyl_2_cz]) rotate([0, cyl_2_rot_y, 0]) cylinder(h = cyl_2_h, r = fn_r(cyl_r), center = true);
-    difference() {
-      translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) rotate([0, cyl_3_rot_y, 0]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
-      translate([ellipsoid_4_cx, ellipsoid_4_cy, ellipsoid_4_cz]) rotate([0, ellipsoid_4_rot_y, 0]) scale([ellipsoid_4_rx, ellipsoid_4_ry, ellipsoid_4_rz]) sphere(r = fn_sr(1));
+  difference() {
+    intersection() {
+      translate([cone_1_cx, cone_1_cy, cone_1_cz]) rotate([cone_1_rot_x, cone_1_rot_y, 0]) cylinder(h = cone_1_h, r1 = fn_r(cone_1_r1), r2 = fn_r(cone_1_r2), center = true);
+      translate([cone_2_cx, cone_2_cy, cone_2_cz]) rotate([cone_2_rot_x, cone_2_rot_y, 0]) cylinder(h = cone_2_h, r1 = fn_r(cone_2_r1), r2 = fn_r(cone_2_r2), center = true);
+      translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
+      translate([cone_4_cx, cone_4_cy, cone_4_cz]) rotate([cone_4_rot_x, cone_4_rot_y, 0]) cylinder(h = cone_4_h, r1 = fn_r(cone_4_r1), r2 = fn_r(cone_4_r2), center = true);
+      translate([cone_5_cx, cone_5_cy, cone_5_cz]) rotate([cone_5_rot_x, cone_5_rot_y, 0]) cylinder(h = cone_5_h, r1 = fn_r(cone_5_r1), r2 = fn_r(cone_5_r2), center = true);
+      translate([cone_6_cx, cone_6_cy, cone_6_cz]) rotate([cone_6_rot_x, cone_6_rot_y, 0]) cylinder(h = cone_6_h, r1 = fn_r(cone_6_r1), r2 = fn_r(cone_6_r2), center = true);
+      translate([box_7_cx, box_7_cy, box_7_cz]) rotate([box_7_rot_x, box_7_rot_y, box_7_rot_z]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
+      translate([box_8_cx, box_8_cy, box_8_cz]) rotate([box_8_rot_x, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
+      translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, box_9_rot_y, box_9_rot_z]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
+      translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
+      translate([box_11_cx, box_11_cy, box_11_cz]) rotate([box_11_rot_x, box_11_rot_y, box_11_rot_z]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
+      translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, box_12_rot_y, box_12_rot_z]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
+      translate([box_13_cx, box_13_cy, box_13_cz]) rotate([box_13_rot_x, box_13_rot_y, box_13_rot_z]) cube([box_13_size_x, box_13_size_y, box_13_size_z], center = true);
+      translate([box_14_cx, box_14_cy, box_14_cz]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);
+      union() {
+        translate([cyl_15_cx, cyl_15_cy, cyl_15_cz]) cylinder(h = cyl_15_h, r = fn_r(cyl_15_r), center = true);
+        translate([box_16_cx, box_16_cy, box_16_cz]) cube([box_16_size_x, box_16_size_y, box_16_size_z], center = true);
+      }
     }
+    translate([cyl_17_cx, cyl_17_cy, cyl_17_cz]) rotate([cyl_17_rot_x, 0, cyl_17_rot_z]) cylinder(h = cyl_17_h, r = cyl_17_r, center = true, $fn = cyl_17_sides);
   }
 }
 

@@ -6,22 +6,78 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
-/* [Box 1] */
-box_1_cx = -0.0011; // [-50:0.01:50]
-box_1_cy = 0.0004; // [-50:0.01:50]
-box_1_cz = -0.1554; // [-50:0.01:50]
-box_1_rot_x = 11.073618; // [-180:0.1:180]
-box_1_rot_y = -89.695124; // [-180:0.1:180]
-box_1_rot_z = -78.999562; // [-180:0.1:180]
-box_1_size_x = 9.9914; // [0:0.01:50]
-box_1_size_y = 0.4131; // [0:0.01:50]
-box_1_size_z = 0.4919; // [0:0.01:50]
+/* [Cone 1] */
+cone_1_cx = 0.006; // [-50:0.01:50]
+cone_1_cy = -0.0017; // [-50:0.01:50]
+cone_1_cz = 0; // [-50:0.01:50]
+cone_1_rot_x = 0.021453; // [-180:0.1:180]
+cone_1_rot_y = 179.919014; // [-180:0.1:180]
+cone_1_r1 = 0.3757; // [0:0.01:50]
+cone_1_r2 = 10.4042; // [0:0.01:50]
+cone_1_h = 10.0018; // [0:0.01:50]
+
+/* [Cylinder 2] */
+cyl_2_cx = -0.0008; // [-50:0.01:50]
+cyl_2_cy = 0; // [-50:0.01:50]
+cyl_2_cz = 0; // [-50:0.01:50]
+cyl_2_r = 0.4196; // [0:0.01:50]
+cyl_2_h = 10; // [0:0.01:50]
+
+/* [Cone 3] */
+cone_3_cx = 0.0766; // [-50:0.01:50]
+cone_3_cy = -0.0349; // [-50:0.01:50]
+cone_3_cz = -0.0015; // [-50:0.01:50]
+cone_3_rot_x = 0.421836; // [-180:0.1:180]
+cone_3_rot_y = 0.935381; // [-180:0.1:180]
+cone_3_r1 = 0.2023; // [0:0.01:50]
+cone_3_r2 = 10.4812; // [0:0.01:50]
+cone_3_h = 10.0223; // [0:0.01:50]
+
+/* [Cylinder 4] */
+cyl_4_cx = -0.0008; // [-50:0.01:50]
+cyl_4_cy = 0; // [-50:0.01:50]
+cyl_4_cz = -0.1218; // [-50:0.01:50]
+cyl_4_r = 0.2583; // [0:0.01:50]
+cyl_4_h = 9.7565; // [0:0.01:50]
+
+/* [Box 5] */
+box_5_cx = 0; // [-50:0.01:50]
+box_5_cy = 0; // [-50:0.01:50]
+box_5_cz = 4.7438; // [-50:0.01:50]
+box_5_size_x = 1.0111; // [0:0.01:50]
+box_5_size_y = 1.0111; // [0:0.01:50]
+box_5_size_z = 0.5123; // [0:0.01:50]
+
+/* [Cylinder 6] */
+cyl_6_cx = -0.0008; // [-50:0.01:50]
+cyl_6_cy = 0; // [-50:0.01:50]
+cyl_6_cz = 4.9255; // [-50:0.01:50]
+cyl_6_rot_x = 180; // [-180:0.1:180]
+cyl_6_rot_z = 89.999997; // [-180:0.1:180]
+cyl_6_r = 0.2575; // [0:0.01:50]
+cyl_6_h = 0.338; // [0:0.01:50]
+cyl_6_sides = 6; // [3:1:64]
 
 /* [Hidden] */
 $fn = segments;
 
+// OpenSCAD puts a circle's $fn vertices on the circle, so the polygon lies inside it;
+// this radius gives the polygon the fitted circle's area instead.
+function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
+
 module csg_high_res() {
-  translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, box_1_rot_y, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
+  difference() {
+    intersection() {
+      translate([cone_1_cx, cone_1_cy, cone_1_cz]) rotate([cone_1_rot_x, cone_1_rot_y, 0]) cylinder(h = cone_1_h, r1 = fn_r(cone_1_r1), r2 = fn_r(cone_1_r2), center = true);
+      translate([cyl_2_cx, cyl_2_cy, cyl_2_cz]) cylinder(h = cyl_2_h, r = fn_r(cyl_2_r), center = true);
+      translate([cone_3_cx, cone_3_cy, cone_3_cz]) rotate([cone_3_rot_x, cone_3_rot_y, 0]) cylinder(h = cone_3_h, r1 = fn_r(cone_3_r1), r2 = fn_r(cone_3_r2), center = true);
+      union() {
+        translate([cyl_4_cx, cyl_4_cy, cyl_4_cz]) cylinder(h = cyl_4_h, r = fn_r(cyl_4_r), center = true);
+        translate([box_5_cx, box_5_cy, box_5_cz]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
+      }
+    }
+    translate([cyl_6_cx, cyl_6_cy, cyl_6_cz]) rotate([cyl_6_rot_x, 0, cyl_6_rot_z]) cylinder(h = cyl_6_h, r = cyl_6_r, center = true, $fn = cyl_6_sides);
+  }
 }
 
 csg_high_res();

@@ -6,161 +6,190 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
-/* [Shared dimensions] */
-// radius of cylinders 3 and 8
-cyl_r = 0.9698; // [0:0.01:50]
-// radius of cylinders 7 and 9
-cyl_r2 = 0.7457; // [0:0.01:50]
-// radius of cylinders 15 and 16
-hole_r = 0.4281; // [0:0.01:50]
-// height of cylinders 3 and 8
-cyl_h = 1.7391; // [0:0.01:50]
+/* [Torus 1] */
+torus_1_cx = -3.6155; // [-50000:10:50000]
+torus_1_cy = -0.7044; // [-50000:10:50000]
+torus_1_cz = 17.4194; // [-50000:10:50000]
+torus_1_major_r = 14511.0952; // [0:10:50000]
+torus_1_minor_r = 14510.3547; // [0:10:50000]
 
-/* [Box 1] */
-box_1_cx = 0; // [-50:0.01:50]
-box_1_cy = -0.5714; // [-50:0.01:50]
-box_1_cz = 0.0497; // [-50:0.01:50]
-box_1_rot_y = 90; // [-180:0.1:180]
-box_1_rot_z = 90; // [-180:0.1:180]
-box_1_size_x = 3.0435; // [0:0.01:50]
-box_1_size_y = 8.8075; // [0:0.01:50]
-box_1_size_z = 8.4348; // [0:0.01:50]
+/* [Box 2] */
+box_2_cx = 0; // [-50000:10:50000]
+box_2_cy = -0.5714; // [-50000:10:50000]
+box_2_cz = -0.1988; // [-50000:10:50000]
+box_2_size_x = 7.4161; // [0:10:50000]
+box_2_size_y = 8.4348; // [0:10:50000]
+box_2_size_z = 3.5404; // [0:10:50000]
 
-/* [Cone 2] */
-cone_2_cx = 0.0007; // [-50:0.01:50]
-cone_2_cy = -0.6674; // [-50:0.01:50]
-cone_2_cz = 0.3585; // [-50:0.01:50]
-cone_2_rot_x = -86.964215; // [-180:0.1:180]
-cone_2_rot_y = 178.935025; // [-180:0.1:180]
-cone_2_r1 = 3.6921; // [0:0.01:50]
-cone_2_r2 = 3.7744; // [0:0.01:50]
-cone_2_h = 7.4767; // [0:0.01:50]
+/* [Prism 3] */
+prism_3_cx = 4.6592; // [-50000:10:50000]
+prism_3_cy = -2.0494; // [-50000:10:50000]
+prism_3_cz = 3.0955; // [-50000:10:50000]
+prism_3_rot_x = 44.43869; // [-180:0.1:180]
+prism_3_rot_y = 60.378652; // [-180:0.1:180]
+prism_3_rot_z = 140.42132; // [-180:0.1:180]
+prism_3_w = 11.8502; // [0:10:50000]
+prism_3_h = 1.3499; // [0:10:50000]
+prism_3_depth = 1.8369; // [0:10:50000]
+prism_3_apex = 0.252533; // [-4:0.01:4]
 
-/* [Cylinder 3] */
-cyl_3_cx = 3.5541; // [-50:0.01:50]
-cyl_3_cy = -0.7384; // [-50:0.01:50]
-cyl_3_cz = -1.0994; // [-50:0.01:50]
+/* [Cylinder 4] */
+cyl_4_cx = 0.032; // [-50000:10:50000]
+cyl_4_cy = -1.5531; // [-50000:10:50000]
+cyl_4_cz = 1.721; // [-50000:10:50000]
+cyl_4_rot_x = 87.394615; // [-180:0.1:180]
+cyl_4_rot_y = -167.01309; // [-180:0.1:180]
+cyl_4_r = 2.7377; // [0:10:50000]
+cyl_4_h = 10.4112; // [0:10:50000]
 
-/* [Prism 4] */
-prism_4_cx = 0; // [-50:0.01:50]
-prism_4_cy = -2.0108; // [-50:0.01:50]
-prism_4_cz = -1.3149; // [-50:0.01:50]
-prism_4_rot_x = 91.255034; // [-180:0.1:180]
-prism_4_rot_y = 86.030905; // [-180:0.1:180]
-prism_4_rot_z = 91.371902; // [-180:0.1:180]
-prism_4_w = 0.8149; // [0:0.01:50]
-prism_4_h = 5.7751; // [0:0.01:50]
-prism_4_depth = 7.4161; // [0:0.01:50]
-prism_4_apex = 1.775753; // [-4:0.01:4]
+/* [Box 5] */
+box_5_cx = -4.0767; // [-50000:10:50000]
+box_5_cy = -0.9839; // [-50000:10:50000]
+box_5_cz = 0.4379; // [-50000:10:50000]
+box_5_rot_x = 0.364628; // [-180:0.1:180]
+box_5_rot_y = -4.19929; // [-180:0.1:180]
+box_5_rot_z = 0.766049; // [-180:0.1:180]
+box_5_size_x = 0.7279; // [0:10:50000]
+box_5_size_y = 4.5985; // [0:10:50000]
+box_5_size_z = 2.3004; // [0:10:50000]
 
-/* [Prism 5] */
-prism_5_cx = 3.2694; // [-50:0.01:50]
-prism_5_cy = 1.842; // [-50:0.01:50]
-prism_5_cz = -1.368; // [-50:0.01:50]
-prism_5_rot_x = 90; // [-180:0.1:180]
-prism_5_rot_z = 180; // [-180:0.1:180]
-prism_5_w = 1.1187; // [0:0.01:50]
-prism_5_h = 1.197; // [0:0.01:50]
-prism_5_depth = 3.6079; // [0:0.01:50]
-prism_5_apex = 0.727809; // [-4:0.01:4]
+/* [Box 6] */
+box_6_cx = 4.0559; // [-50000:10:50000]
+box_6_cy = 1.843; // [-50000:10:50000]
+box_6_cz = 0.0497; // [-50000:10:50000]
+box_6_size_x = 0.6957; // [0:10:50000]
+box_6_size_y = 3.6059; // [0:10:50000]
+box_6_size_z = 3.0435; // [0:10:50000]
 
-/* [Cone 6] */
-cone_6_cx = -3.2206; // [-50:0.01:50]
-cone_6_cy = -0.2468; // [-50:0.01:50]
-cone_6_cz = -1.5343; // [-50:0.01:50]
-cone_6_rot_x = 89.57719; // [-180:0.1:180]
-cone_6_rot_y = 53.488218; // [-180:0.1:180]
-cone_6_r1 = 0.5058; // [0:0.01:50]
-cone_6_r2 = 0.5059; // [0:0.01:50]
-cone_6_h = 7.7856; // [0:0.01:50]
+/* [Box 7] */
+box_7_cx = 4.1491; // [-50000:10:50000]
+box_7_cy = 0.3807; // [-50000:10:50000]
+box_7_cz = 0.4232; // [-50000:10:50000]
+box_7_rot_x = -2.502978; // [-180:0.1:180]
+box_7_rot_y = 7.560737; // [-180:0.1:180]
+box_7_rot_z = 2.987278; // [-180:0.1:180]
+box_7_size_x = 0.7035; // [0:10:50000]
+box_7_size_y = 4.5895; // [0:10:50000]
+box_7_size_z = 2.3776; // [0:10:50000]
 
-/* [Cylinder 7] */
-cyl_7_cx = 3.6031; // [-50:0.01:50]
-cyl_7_cy = -0.7012; // [-50:0.01:50]
-cyl_7_cz = 0.236; // [-50:0.01:50]
-cyl_7_rot_y = 180; // [-180:0.1:180]
-cyl_7_h = 2.6708; // [0:0.01:50]
+/* [Box 8] */
+box_8_cx = -3.3343; // [-50000:10:50000]
+box_8_cy = 1.8445; // [-50000:10:50000]
+box_8_cz = 0.0497; // [-50000:10:50000]
+box_8_size_x = 2.1388; // [0:10:50000]
+box_8_size_y = 3.603; // [0:10:50000]
+box_8_size_z = 3.0435; // [0:10:50000]
 
-/* [Cylinder 8] */
-cyl_8_cx = -3.5557; // [-50:0.01:50]
-cyl_8_cy = -0.6988; // [-50:0.01:50]
-cyl_8_cz = -1.0994; // [-50:0.01:50]
-
-/* [Cylinder 9] */
-cyl_9_cx = -3.6031; // [-50:0.01:50]
-cyl_9_cy = -0.7017; // [-50:0.01:50]
-cyl_9_cz = 0.6708; // [-50:0.01:50]
-cyl_9_rot_y = 180; // [-180:0.1:180]
-cyl_9_h = 1.8012; // [0:0.01:50]
+/* [Box 9] */
+box_9_cx = 4.0559; // [-50000:10:50000]
+box_9_cy = -3.1031; // [-50000:10:50000]
+box_9_cz = 0.0497; // [-50000:10:50000]
+box_9_size_x = 0.6957; // [0:10:50000]
+box_9_size_y = 3.3714; // [0:10:50000]
+box_9_size_z = 3.0435; // [0:10:50000]
 
 /* [Box 10] */
-box_10_cx = -0.0598; // [-50:0.01:50]
-box_10_cy = 3.9249; // [-50:0.01:50]
-box_10_cz = -0.2595; // [-50:0.01:50]
-box_10_rot_x = -2.651444; // [-180:0.1:180]
-box_10_rot_y = 18.769844; // [-180:0.1:180]
-box_10_rot_z = -91.800236; // [-180:0.1:180]
-box_10_size_x = 1.7881; // [0:0.01:50]
-box_10_size_y = 2.4125; // [0:0.01:50]
-box_10_size_z = 0.7143; // [0:0.01:50]
+box_10_cx = -3.4482; // [-50000:10:50000]
+box_10_cy = -0.7167; // [-50000:10:50000]
+box_10_cz = 0.4224; // [-50000:10:50000]
+box_10_rot_x = 0.24855; // [-180:0.1:180]
+box_10_rot_y = 0.061522; // [-180:0.1:180]
+box_10_rot_z = -31.686471; // [-180:0.1:180]
+box_10_size_x = 1.8908; // [0:10:50000]
+box_10_size_y = 1.6262; // [0:10:50000]
+box_10_size_z = 2.2981; // [0:10:50000]
 
-/* [Ellipsoid 11] */
-ellipsoid_11_cx = 1.687; // [-50:0.01:50]
-ellipsoid_11_cy = 3.9072; // [-50:0.01:50]
-ellipsoid_11_cz = 0.7061; // [-50:0.01:50]
-ellipsoid_11_rot_x = 43.862509; // [-180:0.1:180]
-ellipsoid_11_rot_y = 54.455312; // [-180:0.1:180]
-ellipsoid_11_rot_z = -109.198917; // [-180:0.1:180]
-ellipsoid_11_rx = 1.1124; // [0:0.01:50]
-ellipsoid_11_ry = 1.0835; // [0:0.01:50]
-ellipsoid_11_rz = 0.3976; // [0:0.01:50]
+/* [Extrusion 1] */
+extrude_1_y = 3.646; // [-50000:10:50000]
+extrude_1_rot_x = 90; // [-180:0.1:180]
+extrude_1_h = 0.6708; // [0:10:50000]
 
-/* [Ellipsoid 12] */
-ellipsoid_12_cx = -1.762; // [-50:0.01:50]
-ellipsoid_12_cy = 3.8582; // [-50:0.01:50]
-ellipsoid_12_cz = 0.7235; // [-50:0.01:50]
-ellipsoid_12_rot_x = -26.939721; // [-180:0.1:180]
-ellipsoid_12_rot_y = -34.26543; // [-180:0.1:180]
-ellipsoid_12_rot_z = 80.202288; // [-180:0.1:180]
-ellipsoid_12_rx = 1.1291; // [0:0.01:50]
-ellipsoid_12_ry = 0.3869; // [0:0.01:50]
-ellipsoid_12_rz = 1.0947; // [0:0.01:50]
+/* [Box 11] */
+box_11_cx = 0; // [-50000:10:50000]
+box_11_cy = -0.1988; // [-50000:10:50000]
+box_11_size_x = 7.4161; // [0:10:50000]
+box_11_size_z = 3.5404; // [0:10:50000]
 
-/* [Box 13] */
-box_13_cx = -3.7733; // [-50:0.01:50]
-box_13_cy = -0.6733; // [-50:0.01:50]
-box_13_cz = -2.4253; // [-50:0.01:50]
-box_13_rot_x = -91.784995; // [-180:0.1:180]
-box_13_rot_y = 1.366812; // [-180:0.1:180]
-box_13_rot_z = -106.074271; // [-180:0.1:180]
-box_13_size_x = 1.656; // [0:0.01:50]
-box_13_size_y = 3.4034; // [0:0.01:50]
-box_13_size_z = 1.7047; // [0:0.01:50]
+/* [Cylinder 12] */
+cyl_12_cx = 0; // [-50000:10:50000]
+cyl_12_cy = 1.5715; // [-50000:10:50000]
+cyl_12_r = 1.9659; // [0:10:50000]
+
+/* [Cone 13] */
+cone_13_cx = 0; // [-50000:10:50000]
+cone_13_cy = 0.5954; // [-50000:10:50000]
+cone_13_cz = 1.5715; // [-50000:10:50000]
+cone_13_rot_x = 90; // [-180:0.1:180]
+cone_13_r1 = 1.9378; // [0:10:50000]
+cone_13_r2 = 5.5549; // [0:10:50000]
+cone_13_h = 8.3869; // [0:10:50000]
 
 /* [Box 14] */
-box_14_cx = 6.3207; // [-50:0.01:50]
-box_14_cy = -1.1099; // [-50:0.01:50]
-box_14_cz = -1.2695; // [-50:0.01:50]
-box_14_rot_x = 179.286004; // [-180:0.1:180]
-box_14_rot_y = -1.034573; // [-180:0.1:180]
-box_14_rot_z = -9.514971; // [-180:0.1:180]
-box_14_size_x = 6.8428; // [0:0.01:50]
-box_14_size_y = 1.4854; // [0:0.01:50]
-box_14_size_z = 1.198; // [0:0.01:50]
+box_14_cx = -0.8106; // [-50000:10:50000]
+box_14_cy = 4.0683; // [-50000:10:50000]
+box_14_cz = -0.1988; // [-50000:10:50000]
+box_14_size_x = 7.1863; // [0:10:50000]
+box_14_size_y = 1.441; // [0:10:50000]
+box_14_size_z = 3.5404; // [0:10:50000]
 
-/* [Cylinder 15] */
-cyl_15_cx = 3.5541; // [-50:0.01:50]
-cyl_15_cy = -0.7384; // [-50:0.01:50]
-cyl_15_cz = -0.3974; // [-50:0.01:50]
-cyl_15_rot_y = 180; // [-180:0.1:180]
-cyl_15_h = 3.9377; // [0:0.01:50]
+/* [Box 15] */
+box_15_cx = -4.0559; // [-50000:10:50000]
+box_15_cy = -3.1178; // [-50000:10:50000]
+box_15_cz = 0.0497; // [-50000:10:50000]
+box_15_size_x = 0.6957; // [0:10:50000]
+box_15_size_y = 3.342; // [0:10:50000]
+box_15_size_z = 3.0435; // [0:10:50000]
 
-/* [Cylinder 16] */
-cyl_16_cx = -3.6031; // [-50:0.01:50]
-cyl_16_cy = -0.7017; // [-50:0.01:50]
-cyl_16_cz = 0.8659; // [-50:0.01:50]
-cyl_16_rot_y = 180; // [-180:0.1:180]
-cyl_16_h = 3.1852; // [0:0.01:50]
+/* [Torus 16] */
+torus_16_cx = -3.5748; // [-50000:10:50000]
+torus_16_cy = -0.709; // [-50000:10:50000]
+torus_16_cz = 11.87; // [-50000:10:50000]
+torus_16_major_r = 14510.7916; // [0:10:50000]
+torus_16_minor_r = 14510.0854; // [0:10:50000]
+
+/* [Box 17] */
+box_17_cx = 0; // [-50000:10:50000]
+box_17_cy = -0.7081; // [-50000:10:50000]
+box_17_cz = 0.7411; // [-50000:10:50000]
+box_17_size_x = 7.4161; // [0:10:50000]
+box_17_size_y = 7.3665; // [0:10:50000]
+box_17_size_z = 3.681; // [0:10:50000]
+
+/* [Cylinder 18] */
+cyl_18_cx = 3.7857; // [-50000:10:50000]
+cyl_18_cy = -0.8359; // [-50000:10:50000]
+cyl_18_cz = 0.4018; // [-50000:10:50000]
+cyl_18_rot_x = -1.777125; // [-180:0.1:180]
+cyl_18_rot_y = -172.051545; // [-180:0.1:180]
+cyl_18_r = 0.9817; // [0:10:50000]
+cyl_18_h = 2.5651; // [0:10:50000]
+
+/* [Box 19] */
+box_19_cx = -0.0494; // [-50000:10:50000]
+box_19_cy = 0.0186; // [-50000:10:50000]
+box_19_cz = -0.4125; // [-50000:10:50000]
+box_19_rot_x = 0.016243; // [-180:0.1:180]
+box_19_rot_y = -2.56312; // [-180:0.1:180]
+box_19_rot_z = -0.013563; // [-180:0.1:180]
+box_19_size_x = 5.5093; // [0:10:50000]
+box_19_size_y = 5.9131; // [0:10:50000]
+box_19_size_z = 5.1474; // [0:10:50000]
+
+/* [Cylinder 20] */
+cyl_20_cx = 0; // [-50000:10:50000]
+cyl_20_cy = 2.2806; // [-50000:10:50000]
+cyl_20_cz = 1.5715; // [-50000:10:50000]
+cyl_20_rot_x = -90; // [-180:0.1:180]
+cyl_20_r = 1.4902; // [0:10:50000]
+cyl_20_h = 10.4369; // [0:10:50000]
+
+/* [Cylinder 21] */
+cyl_21_cx = -3.6155; // [-50000:10:50000]
+cyl_21_cy = -0.7044; // [-50000:10:50000]
+cyl_21_cz = -1.0342; // [-50000:10:50000]
+cyl_21_rot_y = 180; // [-180:0.1:180]
+cyl_21_r = 0.4281; // [0:10:50000]
+cyl_21_h = 5.2113; // [0:10:50000]
 
 /* [Hidden] */
 $fn = segments;
@@ -169,38 +198,50 @@ $fn = segments;
 // this radius gives the polygon the fitted circle's area instead.
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
-// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with their
-// vertices on the sphere: a stack of frusta. fn_sphere_volume is that polyhedron's
-// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the fitted sphere's volume.
-function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :
-  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),
-      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))
-  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);
-function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
-  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
+// A torus about the z axis: the circle of radius r at distance R, revolved. With
+// equal-area fn_r, stretching the profile by fn_r(1) across the axis gives the
+// revolved $fn-gon the torus's volume; min() keeps it off the axis when r = R.
+module csg_torus(R, r)
+  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), R / r), 1]) circle(r = fn_r(r));
 
 module csg_high_res() {
   difference() {
     union() {
       difference() {
-        translate([box_1_cx, box_1_cy, box_1_cz]) rotate([0, box_1_rot_y, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-        translate([cone_2_cx, cone_2_cy, cone_2_cz]) rotate([cone_2_rot_x, cone_2_rot_y, 0]) cylinder(h = cone_2_h, r1 = fn_r(cone_2_r1), r2 = fn_r(cone_2_r2), center = true);
+        intersection() {
+          translate([torus_1_cx, torus_1_cy, torus_1_cz]) csg_torus(torus_1_major_r, torus_1_minor_r);
+          translate([box_2_cx, box_2_cy, box_2_cz]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
+        }
+        translate([prism_3_cx, prism_3_cy, prism_3_cz]) rotate([prism_3_rot_x, prism_3_rot_y, prism_3_rot_z]) linear_extrude(height = prism_3_depth, center = true) polygon([[-prism_3_w / 2, -prism_3_h / 2], [prism_3_w / 2, -prism_3_h / 2], [prism_3_apex * prism_3_w / 2, prism_3_h / 2]]);
+        translate([cyl_4_cx, cyl_4_cy, cyl_4_cz]) rotate([cyl_4_rot_x, cyl_4_rot_y, 0]) cylinder(h = cyl_4_h, r = fn_r(cyl_4_r), center = true);
       }
-      translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
-      translate([prism_4_cx, prism_4_cy, prism_4_cz]) rotate([prism_4_rot_x, prism_4_rot_y, prism_4_rot_z]) linear_extrude(height = prism_4_depth, center = true) polygon([[-prism_4_w / 2, -prism_4_h / 2], [prism_4_w / 2, -prism_4_h / 2], [prism_4_apex * prism_4_w / 2, prism_4_h / 2]]);
-      translate([prism_5_cx, prism_5_cy, prism_5_cz]) rotate([prism_5_rot_x, 0, prism_5_rot_z]) linear_extrude(height = prism_5_depth, center = true) polygon([[-prism_5_w / 2, -prism_5_h / 2], [prism_5_w / 2, -prism_5_h / 2], [prism_5_apex * prism_5_w / 2, prism_5_h / 2]]);
-      translate([cone_6_cx, cone_6_cy, cone_6_cz]) rotate([cone_6_rot_x, cone_6_rot_y, 0]) cylinder(h = cone_6_h, r1 = fn_r(cone_6_r1), r2 = fn_r(cone_6_r2), center = true);
-      translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([0, cyl_7_rot_y, 0]) cylinder(h = cyl_7_h, r = fn_r(cyl_r2), center = true);
-      translate([cyl_8_cx, cyl_8_cy, cyl_8_cz]) cylinder(h = cyl_h, r = fn_r(cyl_r), center = true);
-      translate([cyl_9_cx, cyl_9_cy, cyl_9_cz]) rotate([0, cyl_9_rot_y, 0]) cylinder(h = cyl_9_h, r = fn_r(cyl_r2), center = true);
+      translate([box_5_cx, box_5_cy, box_5_cz]) rotate([box_5_rot_x, box_5_rot_y, box_5_rot_z]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
+      translate([box_6_cx, box_6_cy, box_6_cz]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
+      translate([box_7_cx, box_7_cy, box_7_cz]) rotate([box_7_rot_x, box_7_rot_y, box_7_rot_z]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
+      translate([box_8_cx, box_8_cy, box_8_cz]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
+      translate([box_9_cx, box_9_cy, box_9_cz]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
       translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
-      translate([ellipsoid_11_cx, ellipsoid_11_cy, ellipsoid_11_cz]) rotate([ellipsoid_11_rot_x, ellipsoid_11_rot_y, ellipsoid_11_rot_z]) scale([ellipsoid_11_rx, ellipsoid_11_ry, ellipsoid_11_rz]) sphere(r = fn_sr(1));
-      translate([ellipsoid_12_cx, ellipsoid_12_cy, ellipsoid_12_cz]) rotate([ellipsoid_12_rot_x, ellipsoid_12_rot_y, ellipsoid_12_rot_z]) scale([ellipsoid_12_rx, ellipsoid_12_ry, ellipsoid_12_rz]) sphere(r = fn_sr(1));
+      translate([0, extrude_1_y, 0]) rotate([extrude_1_rot_x, 0, 0]) linear_extrude(height = extrude_1_h)
+        difference() {
+          translate([box_11_cx, box_11_cy]) square([box_11_size_x, box_11_size_z], center = true);
+          translate([cyl_12_cx, cyl_12_cy]) circle(r = fn_r(cyl_12_r));
+        }
+      intersection() {
+        translate([cone_13_cx, cone_13_cy, cone_13_cz]) rotate([cone_13_rot_x, 0, 0]) cylinder(h = cone_13_h, r1 = fn_r(cone_13_r1), r2 = fn_r(cone_13_r2), center = true);
+        translate([box_14_cx, box_14_cy, box_14_cz]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);
+      }
+      translate([box_15_cx, box_15_cy, box_15_cz]) cube([box_15_size_x, box_15_size_y, box_15_size_z], center = true);
     }
-    translate([box_13_cx, box_13_cy, box_13_cz]) rotate([box_13_rot_x, box_13_rot_y, box_13_rot_z]) cube([box_13_size_x, box_13_size_y, box_13_size_z], center = true);
-    translate([box_14_cx, box_14_cy, box_14_cz]) rotate([box_14_rot_x, box_14_rot_y, box_14_rot_z]) cube([box_14_size_x, box_14_size_y, box_14_size_z], center = true);
-    translate([cyl_15_cx, cyl_15_cy, cyl_15_cz]) rotate([0, cyl_15_rot_y, 0]) cylinder(h = cyl_15_h, r = fn_r(hole_r), center = true);
-    translate([cyl_16_cx, cyl_16_cy, cyl_16_cz]) rotate([0, cyl_16_rot_y, 0]) cylinder(h = cyl_16_h, r = fn_r(hole_r), center = true);
+    difference() {
+      intersection() {
+        translate([torus_16_cx, torus_16_cy, torus_16_cz]) csg_torus(torus_16_major_r, torus_16_minor_r);
+        translate([box_17_cx, box_17_cy, box_17_cz]) cube([box_17_size_x, box_17_size_y, box_17_size_z], center = true);
+      }
+      translate([cyl_18_cx, cyl_18_cy, cyl_18_cz]) rotate([cyl_18_rot_x, cyl_18_rot_y, 0]) cylinder(h = cyl_18_h, r = fn_r(cyl_18_r), center = true);
+    }
+    translate([box_19_cx, box_19_cy, box_19_cz]) rotate([box_19_rot_x, box_19_rot_y, box_19_rot_z]) cube([box_19_size_x, box_19_size_y, box_19_size_z], center = true);
+    translate([cyl_20_cx, cyl_20_cy, cyl_20_cz]) rotate([cyl_20_rot_x, 0, 0]) cylinder(h = cyl_20_h, r = fn_r(cyl_20_r), center = true);
+    translate([cyl_21_cx, cyl_21_cy, cyl_21_cz]) rotate([0, cyl_21_rot_y, 0]) cylinder(h = cyl_21_h, r = fn_r(cyl_21_r), center = true);
   }
 }
 

@@ -6,20 +6,19 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
+/* [Extrusion 1] */
+extrude_1_h = 12; // [0:0.01:100]
+
 /* [Box 1] */
 box_1_cx = 0; // [-100:0.01:100]
 box_1_cy = 0; // [-100:0.01:100]
-box_1_cz = 6; // [-100:0.01:100]
 box_1_size_x = 40; // [0:0.01:100]
 box_1_size_y = 30; // [0:0.01:100]
-box_1_size_z = 12; // [0:0.01:100]
 
 /* [Cylinder 2] */
 cyl_2_cx = 0; // [-100:0.01:100]
 cyl_2_cy = 0; // [-100:0.01:100]
-cyl_2_cz = 5.8603; // [-100:0.01:100]
 cyl_2_r = 6.9902; // [0:0.01:100]
-cyl_2_h = 12.2793; // [0:0.01:100]
 
 /* [Hidden] */
 $fn = segments;
@@ -29,10 +28,11 @@ $fn = segments;
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
 module holed_block() {
-  difference() {
-    translate([box_1_cx, box_1_cy, box_1_cz]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-    translate([cyl_2_cx, cyl_2_cy, cyl_2_cz]) cylinder(h = cyl_2_h, r = fn_r(cyl_2_r), center = true);
-  }
+  linear_extrude(height = extrude_1_h)
+    difference() {
+      translate([box_1_cx, box_1_cy]) square([box_1_size_x, box_1_size_y], center = true);
+      translate([cyl_2_cx, cyl_2_cy]) circle(r = fn_r(cyl_2_r));
+    }
 }
 
 holed_block();

@@ -27,6 +27,9 @@ struct MeshSurface {
   double area = 0;
   /// Extent of the triangles along the axis (cylinder, cone, torus), measured from shape.point.
   double lo = 0, hi = 0;
+  /// How far about the axis the triangles go (cylinder, cone, torus), degrees: 360 for a whole
+  /// hole or boss, 90 for a rounded corner, 180 for a slot's end.
+  double sweep = 360;
 };
 
 struct MeshSurfaceOptions {
@@ -40,11 +43,17 @@ struct MeshSurfaceOptions {
 
 /// What the segmentation found.
 struct MeshSurfaces {
+  /// The mesh the triangle indices refer to: the input welded and turned outwards (same
+  /// triangles in the same order).
+  TriangleMesh mesh;
   std::vector<MeshSurface> surfaces;
   /// Triangles of curved regions no surface explains (free-form faces, noise).
   std::vector<int> unexplained;
   double diagonal = 0;   ///< of the mesh's bounding box
   double tolerance = 0;  ///< the absolute vertex tolerance used
+  /// Share of the area on surfaces of more than one triangle: near 1 for a file a CAD program
+  /// or OpenSCAD wrote, low for a scan or a noisy soup, whose faces are no surfaces.
+  double structured = 0;
 };
 
 /// Segments the mesh's boundary into surfaces. Deterministic. Vertices at equal positions are

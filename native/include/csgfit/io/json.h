@@ -48,9 +48,16 @@ Node flip_y(const Node& tree, double height);
 /// "radii": [rx, ry, rz]; torus "R", "r"; prism "w", "h", "depth", "apex"}. Throws
 /// InputError for a non-finite value.
 /// `frame` is the rotation of the fitting grid (grid -> mesh coordinates; written as "frame":
-/// [w, x, y, z]); the tree itself is always in mesh coordinates.
+/// [w, x, y, z]); the tree itself is always in mesh coordinates. "sweeps", when the tree has
+/// any (find_sweeps), gives each one's node, kind, frame, height and its leaves' sections in
+/// its plane, for readers that draw them as extrusions and revolutions (range and point
+/// documents carry it too).
 std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const std::string& source,
                       const Quaternion& frame = {});
+
+/// The "sweeps" block to_json3d writes for `tree`, on its own: a JSON array, empty when the
+/// tree has no sweep (for readers of trees that came without one, such as csgfit.find_sweeps).
+std::string to_json_sweeps(const Node3D& tree);
 
 /// A range fit as JSON: the 3D document's "schema", "dimension", "units", "source", "tree" and
 /// "stats" (no grid: the input was points), with "sources" (every view), "views" (each view's

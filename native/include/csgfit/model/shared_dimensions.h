@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -47,6 +48,11 @@ std::vector<SharedDimension> shared_dimensions(const Node& tree);
 /// The 3D tree's shared dimensions: radii of spheres and cylinders that are exactly equal
 /// (snap3d makes near-equal ones so), and heights of cylinders that are exactly equal.
 std::vector<SharedDimension> shared_dimensions(const Node3D& tree);
+/// The same among the uses that `drawn` accepts only: a writer names what it draws (a
+/// cylinder's height does not appear in a linear sweep's profile), and a value left with one
+/// use is not shared.
+std::vector<SharedDimension> shared_dimensions(
+    const Node3D& tree, const std::function<bool(const DimensionUse&)>& drawn);
 
 /// Whether the leaf (pre-order index) is subtracted: under the cut-away side of an odd number of
 /// differences. A hole.

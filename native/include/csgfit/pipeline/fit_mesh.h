@@ -31,6 +31,9 @@ struct MeshFitOptions {
   /// Read the mesh's surface as primitives (planes, spheres, cylinders, cones, tori; seed 002's
   /// recognition) and give them to the search as a first tree and proposals (issue 11).
   bool surface_seeds = true;
+  /// Build the tree from the mesh's own faces first (issue 42, construct/boundary_csg.h): when
+  /// it explains the mesh there is no search; otherwise it is the search's first tree.
+  bool construct = true;
 };
 
 /// A 3D fit: the tree in the input's coordinates and how it was obtained.

@@ -11,6 +11,7 @@
 #include "csgfit/io/json.h"
 #include "io/json/json_fields.h"
 #include "io/json/json_nurbs.h"
+#include "io/json/json_sweeps.h"
 
 namespace csgfit {
 
@@ -20,6 +21,12 @@ using json_detail::fail;
 using json_detail::finite_field;
 using json_detail::kNotFinite3D;
 using json_detail::ojson;
+
+// "sweeps" when the tree has any: a document of a tree without one stays as it was.
+void add_sweeps(const Node3D& tree, ojson& doc) {
+  ojson sweeps = json_detail::sweeps_to_json(tree);
+  if (!sweeps.empty()) doc["sweeps"] = std::move(sweeps);
+}
 
 double finite(double v, const std::string& where) {
   if (!std::isfinite(v)) fail(where, "a value is not a finite number");
@@ -242,8 +249,13 @@ std::string to_json3d(const FitResult3D& result, const VoxelGrid& grid, const st
                      {"frame", {frame.w, frame.x, frame.y, frame.z}}};
   doc["tree"] = node3d_to_json(result.tree, "tree");
   doc["shared_dimensions"] = json_detail::shared_to_json(result.tree, 1.0);
+  add_sweeps(result.tree, doc);
   doc["stats"] = json_detail::stats_to_json(result.stats);
   return doc.dump(2, ' ', false, ojson::error_handler_t::replace) + "\n";
+}
+
+std::string to_json_sweeps(const Node3D& tree) {
+  return json_detail::sweeps_to_json(tree).dump(-1, ' ', false, ojson::error_handler_t::replace);
 }
 
 namespace {
@@ -278,6 +290,7 @@ ojson points_document(const Node3D& tree, const FitStats& stats, const std::vect
   doc["sources"] = sources;
   doc["tree"] = node3d_to_json(tree, "tree");
   doc["shared_dimensions"] = json_detail::shared_to_json(tree, 1.0);
+  add_sweeps(tree, doc);
   doc["stats"] = json_detail::stats_to_json(stats);
   return doc;
 }
