@@ -74,11 +74,14 @@ std::string Writer3D::linear_section(const Primitive3D& p, const SweepSection& s
       number(check(s.angle, "angle", n.what), 6) == "0" ? "" : "rotate(" + angle(tab, prefix, "angle", s.angle) + ") ";
   const Vec3& d = p.dims;
   switch (p.kind) {
-    case PrimitiveKind3D::Box: {
+    case PrimitiveKind3D::Box:
+    case PrimitiveKind3D::RoundedBox: {
       static const char* const sides[3] = {"size_x", "size_y", "size_z"};
       const int i = s.across[0], j = s.across[1];
       const std::string w = length(tab, prefix, sides[i], check_size(d[i], sides[i], n.what));
       const std::string h = length(tab, prefix, sides[j], check_size(d[j], sides[j], n.what));
+      if (p.kind == PrimitiveKind3D::RoundedBox)
+        return at + turn + rounded_square(tab, p, prefix, n.what, w, h) + ";";
       return at + turn + "square([" + w + ", " + h + "], center = true);";
     }
     case PrimitiveKind3D::Cylinder: {

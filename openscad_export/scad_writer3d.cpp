@@ -34,6 +34,7 @@ Writer3D::Names Writer3D::names_of(const Primitive3D& p) {
     case PrimitiveKind3D::Torus: n.prefix = "torus_", n.title = "Torus "; break;
     case PrimitiveKind3D::TriangularPrism: n.prefix = "prism_", n.title = "Prism "; break;
     case PrimitiveKind3D::Nurbs: n.prefix = "nurbs_", n.title = "NURBS patch "; break;
+    case PrimitiveKind3D::RoundedBox: n.prefix = "rbox_", n.title = "Rounded box "; break;
   }
   n.prefix += num;
   n.title += num;
@@ -122,9 +123,32 @@ std::string Writer3D::primitive(const Primitive3D& p) {
       break;
     }
     case PrimitiveKind3D::Nurbs: code += nurbs(p, prefix, what); break;
+    case PrimitiveKind3D::RoundedBox: {
+      const std::string a = length(tab, prefix, "size_x", check_size(s[0], "size x", what));
+      const std::string b = length(tab, prefix, "size_y", check_size(s[1], "size y", what));
+      const std::string c = length(tab, prefix, "size_z", check_size(s[2], "size z", what));
+      code += "linear_extrude(height = " + c + ", center = true) " +
+              rounded_square(tab, p, prefix, what, a, b) + ";";
+      break;
+    }
   }
   if (!tab.vars.empty()) tabs_.push_back(std::move(tab));
   return code;
+}
+
+// As designers draw it: the rectangle of the corner centres grown by offset(r). The corner is
+// drawn with the radius fn_corner gives it, so that its polygon keeps the fitted area and the
+// flats stay on the fitted faces (the square shrinks as the radius grows).
+std::string Writer3D::rounded_square(Tab& tab, const Primitive3D& p, const std::string& prefix,
+                                     const std::string& what, const std::string& w,
+                                     const std::string& h) {
+  check_size(p.corner, "corner", what);
+  if (p.corner > std::min(p.dims[0], p.dims[1]) / 2 * (1 + 1e-12))
+    throw InputError("cannot write .scad: " + what + " has a corner over half its smaller side");
+  const std::string r = "fn_corner(" + length(tab, prefix, "corner", p.corner) + ")";
+  corners_ = true;
+  return "offset(r = " + r + ", $fn = corner_fn) square([" + w + " - 2 * " + r + ", " + h +
+         " - 2 * " + r + "], center = true)";
 }
 
 // The patch's polyhedron within 1e-4 of its size (about 0.005 mm on a 60 mm die), as a module
@@ -153,6 +177,48 @@ namespace {
 
 // The writers' shared helpers (scad_format.h, scad_tree_writer.h, scad_writer3d_impl.h).
 using namespace scad;
+
+// offset(r) rounds each of a square's corners with round($fn / 4) segments, vertices on the
+// circle, the first and last on the square's edge normals (Clipper's round joins): with $fn a
+// multiple of 4 each corner is a quarter of the circle's $fn-gon (else the count rounds a
+// half either way). The quarter's area is then (corner_fn / 8) sin(360 / corner_fn) r^2, and
+// the section's sx sy - (4 - corner_fn / 2 sin(360 / corner_fn)) r^2; fn_corner gives the
+// radius that makes it the fitted sx sy - (4 - pi) corner^2. Whatever the file's circle fit:
+// at the fitted radius a stadium's square would have no width, and OpenSCAD draws nothing.
+void write_corner_radius(std::ostream& out) {
+  out << "// Rounded boxes: offset(r) draws each corner as a quarter of a corner_fn-gon with its\n"
+         "// vertices on the circle; fn_corner gives the radius whose corners keep the fitted "
+         "area.\n";
+  out << "corner_fn = 4 * ceil(segments / 4);\n";
+  out << "function fn_corner(r) = r * sqrt((4 - PI) / (4 - corner_fn / 2 * sin(360 / corner_fn)));\n";
+}
+
+// fn_sr: the radius that gives OpenSCAD's sphere polyhedron what the circle fit asks of it.
+void write_sphere_radius(std::ostream& out, CircleFit fit) {
+  switch (fit) {
+    case CircleFit::Inscribed:
+      out << "// Spheres are OpenSCAD's ring polyhedra with their vertices on the fitted "
+             "sphere.\n";
+      out << "function fn_sr(r) = r;\n\n";
+      break;
+    case CircleFit::Circumscribed:
+      out << "// Spheres enlarged like circles, so the ring polygons' edges touch the sphere.\n";
+      out << "function fn_sr(r) = r / cos(180 / $fn);\n\n";
+      break;
+    case CircleFit::EqualArea:
+      out << "// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with "
+             "their\n// vertices on the sphere: a stack of frusta. fn_sphere_volume is that "
+             "polyhedron's\n// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the "
+             "fitted sphere's volume.\n";
+      out << "function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :\n"
+             "  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),\n"
+             "      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))\n"
+             "  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);\n";
+      out << "function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *\n"
+             "  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);\n\n";
+      break;
+  }
+}
 
 double model_extent(const Node3D& tree) {
   double extent = 0;
@@ -236,7 +302,9 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
     write_tabs(out, writer.tabs());
   }
   out << "/* [Hidden] */\n";
-  out << "$fn = segments;\n\n";
+  out << "$fn = segments;\n";
+  if (writer.uses_corners()) write_corner_radius(out);
+  out << "\n";
   if (morph_b) write_morph_values(out, writer.tabs(), tabs_b);
   if (writer.uses_circles()) write_circle_radius(out, options.circle_fit);
   if (writer.uses_revolutions())
@@ -247,31 +315,7 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
            "// crosses its axis).\n"
            "module csg_half_disc(r) intersection() { circle(r = r); translate([0, -r]) "
            "square([r, 2 * r]); }\n\n";
-  if (writer.uses_spheres()) {
-    switch (options.circle_fit) {
-      case CircleFit::Inscribed:
-        out << "// Spheres are OpenSCAD's ring polyhedra with their vertices on the fitted "
-               "sphere.\n";
-        out << "function fn_sr(r) = r;\n\n";
-        break;
-      case CircleFit::Circumscribed:
-        out << "// Spheres enlarged like circles, so the ring polygons' edges touch the sphere.\n";
-        out << "function fn_sr(r) = r / cos(180 / $fn);\n\n";
-        break;
-      case CircleFit::EqualArea:
-        out << "// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with "
-               "their\n// vertices on the sphere: a stack of frusta. fn_sphere_volume is that "
-               "polyhedron's\n// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the "
-               "fitted sphere's volume.\n";
-        out << "function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :\n"
-               "  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),\n"
-               "      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))\n"
-               "  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);\n";
-        out << "function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *\n"
-               "  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);\n\n";
-        break;
-    }
-  }
+  if (writer.uses_spheres()) write_sphere_radius(out, options.circle_fit);
   if (writer.uses_tori()) {
     out << "// A torus about the z axis: the circle of radius r at distance R, revolved. With\n"
            "// equal-area fn_r, stretching the profile by fn_r(1) across the axis gives the\n"

@@ -23,7 +23,8 @@ struct ScadOptions3D {
 /// variable for $fn, nested unions flattened, the geometry in one named module. Primitives:
 /// cube(center = true), sphere, cylinder(h, r1, r2, center = true), scale() sphere for
 /// ellipsoids, rotate_extrude of a circle for tori, linear_extrude of a polygon for prisms,
-/// each placed by translate() rotate([a, b, c]). Throws InputError on a tree it cannot write
+/// linear_extrude() offset(r = corner) square() for rounded boxes, each placed by translate()
+/// rotate([a, b, c]). Throws InputError on a tree it cannot write
 /// (no primitives, non-finite or non-positive values, $fn out of range).
 std::string to_scad(const Node3D& tree, const ScadOptions3D& options = {});
 

@@ -43,6 +43,7 @@ class Writer3D : public TreeWriter<Writer3D, Node3D> {
   bool uses_tori() const { return tori_; }
   bool uses_revolutions() const { return revolutions_; }
   bool uses_half_discs() const { return half_discs_; }
+  bool uses_corners() const { return corners_; }
   /// Modules the body calls (one polyhedron per NURBS terminal) and the header lines saying
   /// how far each strays from its exact patch.
   const std::string& modules() const { return modules_; }
@@ -82,6 +83,7 @@ class Writer3D : public TreeWriter<Writer3D, Node3D> {
       case PrimitiveKind3D::Torus: return "tori";
       case PrimitiveKind3D::TriangularPrism: return "prisms";
       case PrimitiveKind3D::Nurbs: return "NURBS patches";
+      case PrimitiveKind3D::RoundedBox: return "rounded boxes";
     }
     return "primitives";
   }
@@ -187,7 +189,7 @@ class Writer3D : public TreeWriter<Writer3D, Node3D> {
   const std::vector<Turn>* turns_ = nullptr;
   bool at_b_ = false;
   bool spheres_ = false, circles_ = false, tori_ = false, revolutions_ = false,
-       half_discs_ = false;
+       half_discs_ = false, corners_ = false;
   std::string modules_;
   std::vector<std::string> notes_;
   std::map<const Node3D*, const Sweep*> sweep_of_;
@@ -195,6 +197,10 @@ class Writer3D : public TreeWriter<Writer3D, Node3D> {
   int extrusions_ = 0, revolved_ = 0;
 
   std::string nurbs(const Primitive3D& p, const std::string& prefix, const std::string& what);
+  // A rounded box's section, "offset(r = ...) square([w, h], center = true)" less the corners:
+  // w and h its sides as written (its x and y, or the sides its sweep's plane sees).
+  std::string rounded_square(Tab& tab, const Primitive3D& p, const std::string& prefix,
+                             const std::string& what, const std::string& w, const std::string& h);
 };
 
 }  // namespace csgfit::scad

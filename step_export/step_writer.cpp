@@ -9,23 +9,15 @@
 #include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
-#include <BRepBuilderAPI_GTransform.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
-#include <BRepBuilderAPI_MakePolygon.hxx>
-#include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
-#include <BRepOffsetAPI_ThruSections.hxx>
-#include <BRepPrimAPI_MakeBox.hxx>
-#include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
-#include <BRepPrimAPI_MakeSphere.hxx>
-#include <BRepPrimAPI_MakeTorus.hxx>
 #include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
@@ -42,13 +34,8 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <BRep_Builder.hxx>
-#include <Geom_BSplineSurface.hxx>
-#include <TColStd_Array1OfInteger.hxx>
-#include <TColStd_Array1OfReal.hxx>
-#include <TColgp_Array2OfPnt.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Elips.hxx>
-#include <gp_GTrsf.hxx>
 #include <gp_Trsf.hxx>
 #include <algorithm>
 #include <cctype>
@@ -63,15 +50,20 @@
 #include "csgfit/error.h"
 #include "csgfit/io/files.h"
 #include "step_shape.h"
+#include "step_solids.h"
 
 namespace csgfit {
 
 namespace {
 
 namespace fs = std::filesystem;
+using step::extrude;
+using step::finite;
+using step::kMaxMagnitude;
+using step::local_solid;
+using step::polygon_face;
+using step::positive;
 
-// Far beyond any part in mm, small enough that OCCT's tolerances (1e-7) still mean something.
-constexpr double kMaxMagnitude = 1e7;
 constexpr double kPi = 3.14159265358979323846;
 
 // OCCT reports failures as Standard_Failure; callers get InputError with a one-line reason.
@@ -84,17 +76,6 @@ auto occt(const char* what, F&& f) -> decltype(f()) {
     throw InputError(std::string("cannot write STEP: ") + what + " failed in OpenCASCADE (" +
                      e.DynamicType()->Name() + (msg && *msg ? std::string(": ") + msg : "") + ")");
   }
-}
-
-double finite(double v, const char* what, const std::string& prim) {
-  if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
-    throw InputError("cannot write STEP: " + prim + " has a non-finite or out-of-range " + what);
-  return v;
-}
-double positive(double v, const char* what, const std::string& prim) {
-  finite(v, what, prim);
-  if (!(v > 0)) throw InputError("cannot write STEP: " + prim + " has a " + what + " <= 0");
-  return v;
 }
 
 TopoDS_Shape transformed(const TopoDS_Shape& s, const gp_Trsf& t) {
@@ -114,172 +95,6 @@ gp_Trsf placement(const Primitive3D& p, const std::string& what) {
               m[1][0], m[1][1], m[1][2], finite(p.cy, "centre y", what),  //
               m[2][0], m[2][1], m[2][2], finite(p.cz, "centre z", what));
   return t;
-}
-
-// A closed polygon through the points.
-TopoDS_Wire polygon_wire(const std::vector<gp_Pnt>& pts) {
-  BRepBuilderAPI_MakePolygon poly;
-  for (const gp_Pnt& p : pts) poly.Add(p);
-  poly.Close();
-  if (!poly.IsDone()) throw InputError("cannot write STEP: a degenerate polygon");
-  return poly.Wire();
-}
-
-// A closed planar polygon, as a face.
-TopoDS_Face polygon_face(const std::vector<gp_Pnt>& pts) {
-  BRepBuilderAPI_MakeFace face(polygon_wire(pts), Standard_True);
-  if (!face.IsDone()) throw InputError("cannot write STEP: a degenerate polygon");
-  return face.Face();
-}
-
-TopoDS_Shape extrude(const TopoDS_Face& f, double height) {
-  return BRepPrimAPI_MakePrism(f, gp_Vec(0, 0, height), Standard_True).Shape();
-}
-
-// A clamped knot vector as OCCT wants it: the distinct knots and their multiplicities.
-void knots_and_mults(const std::vector<double>& knots, std::vector<double>& distinct,
-                     std::vector<int>& mults) {
-  for (double k : knots) {
-    if (!distinct.empty() && k == distinct.back()) {
-      ++mults.back();
-    } else {
-      distinct.push_back(k);
-      mults.push_back(1);
-    }
-  }
-}
-
-Handle(Geom_BSplineSurface) occt_surface(const BSplineSurface& s, const std::string& what) {
-  const int nu = s.u_basis().count(), nv = s.v_basis().count();
-  TColgp_Array2OfPnt poles(1, nu, 1, nv);
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const Vec3& c = s.control_point(i, j);
-      poles.SetValue(i + 1, j + 1, gp_Pnt(finite(c[0], "control point", what),
-                                          finite(c[1], "control point", what),
-                                          finite(c[2], "control point", what)));
-    }
-  std::vector<double> ku, kv;
-  std::vector<int> mu, mv;
-  knots_and_mults(s.u_basis().knots(), ku, mu);
-  knots_and_mults(s.v_basis().knots(), kv, mv);
-  TColStd_Array1OfReal uk(1, static_cast<int>(ku.size())), vk(1, static_cast<int>(kv.size()));
-  TColStd_Array1OfInteger um(1, static_cast<int>(mu.size())), vm(1, static_cast<int>(mv.size()));
-  for (std::size_t i = 0; i < ku.size(); ++i) uk.SetValue(static_cast<int>(i) + 1, ku[i]), um.SetValue(static_cast<int>(i) + 1, mu[i]);
-  for (std::size_t i = 0; i < kv.size(); ++i) vk.SetValue(static_cast<int>(i) + 1, kv[i]), vm.SetValue(static_cast<int>(i) + 1, mv[i]);
-  return new Geom_BSplineSurface(poles, uk, vk, um, vm, s.u_basis().degree(), s.v_basis().degree());
-}
-
-// The exact patch as the top face, extruded down past the floor and cut at it: the prism's
-// walls are the rectangle's, and the slab is wider than them so that only the floor is a new
-// cut (coincident faces are where booleans go wrong).
-TopoDS_Shape nurbs_solid(const Primitive3D& p, const std::string& what) {
-  if (!p.patch) throw InputError("cannot write STEP: " + what + " has no patch");
-  const double top = positive(p.dims[2], "top height", what);
-  const double sx = positive(p.dims[0], "size x", what), sy = positive(p.dims[1], "size y", what);
-  double low = 0;
-  for (const Vec3& v : p.patch->net()) low = std::min(low, v[2]);
-  const TopoDS_Face face = BRepBuilderAPI_MakeFace(occt_surface(*p.patch, what), 1e-7).Face();
-  const double drop = top - low + 0.1 * top;
-  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, -drop)).Shape();
-  const double m = 0.05 * std::max(sx, sy);
-  const TopoDS_Shape slab =
-      BRepPrimAPI_MakeBox(gp_Pnt(-sx / 2 - m, -sy / 2 - m, 0), sx + 2 * m, sy + 2 * m, top + m).Shape();
-  return BRepAlgoAPI_Common(prism, slab).Shape();
-}
-
-// The regular n-gon of circumradius r at height z, vertex 0 on +x (OpenSCAD's $fn-gon).
-std::vector<gp_Pnt> regular_polygon(int n, double r, double z) {
-  std::vector<gp_Pnt> pts;
-  for (int i = 0; i < n; ++i)
-    pts.emplace_back(r * std::cos(2 * kPi * i / n), r * std::sin(2 * kPi * i / n), z);
-  return pts;
-}
-
-// A polygonal cylinder is the polygon extruded; a polygonal cone the ruled loft between its end
-// polygons (a pointed end a vertex), whose vertices pair up at equal angles.
-TopoDS_Shape polygonal_solid(const Primitive3D& p, const std::string& what) {
-  const Vec3& d = p.dims;
-  const bool cone = p.kind == PrimitiveKind3D::Cone;
-  const double r1 = finite(d[0], "bottom radius", what);
-  const double r2 = cone ? finite(d[1], "top radius", what) : r1;
-  const double h = positive(d[2], "height", what);
-  if (r1 < 0 || r2 < 0 || !(std::max(r1, r2) > 0))
-    throw InputError("cannot write STEP: " + what + " has a negative or zero radius");
-  if (p.sides < 3 || p.sides > Primitive3D::kMaxSides)
-    throw InputError("cannot write STEP: " + what + " has " + std::to_string(p.sides) + " sides");
-  if (r1 == r2) return extrude(polygon_face(regular_polygon(p.sides, r1, -h / 2)), h);
-  BRepOffsetAPI_ThruSections loft(Standard_True, Standard_True);
-  loft.CheckCompatibility(Standard_False);
-  for (const auto& [r, z] : {std::pair{r1, -h / 2}, std::pair{r2, h / 2}}) {
-    if (r > 0) loft.AddWire(polygon_wire(regular_polygon(p.sides, r, z)));
-    else loft.AddVertex(BRepBuilderAPI_MakeVertex(gp_Pnt(0, 0, z)).Vertex());
-  }
-  loft.Build();
-  if (!loft.IsDone())
-    throw InputError("cannot write STEP: " + what + ": the loft of its end polygons failed");
-  return loft.Shape();
-}
-
-TopoDS_Shape local_solid(const Primitive3D& p, const std::string& what) {
-  const Vec3& d = p.dims;
-  if (p.is_polygonal()) return polygonal_solid(p, what);
-  switch (p.kind) {
-    case PrimitiveKind3D::Box: {
-      const double x = positive(d[0], "size x", what), y = positive(d[1], "size y", what),
-                   z = positive(d[2], "size z", what);
-      return BRepPrimAPI_MakeBox(gp_Pnt(-x / 2, -y / 2, -z / 2), x, y, z).Shape();
-    }
-    case PrimitiveKind3D::Sphere:
-      return BRepPrimAPI_MakeSphere(positive(d[0], "radius", what)).Shape();
-    case PrimitiveKind3D::Cylinder: {
-      const double r = positive(d[0], "radius", what), h = positive(d[2], "height", what);
-      return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -h / 2), gp::DZ()), r, h).Shape();
-    }
-    case PrimitiveKind3D::Cone: {
-      const double r1 = finite(d[0], "bottom radius", what), r2 = finite(d[1], "top radius", what);
-      const double h = positive(d[2], "height", what);
-      if (r1 < 0 || r2 < 0 || !(std::max(r1, r2) > 0))
-        throw InputError("cannot write STEP: " + what + " has a negative or zero radius");
-      const gp_Ax2 axis(gp_Pnt(0, 0, -h / 2), gp::DZ());
-      // OCCT refuses a cone whose radii are equal (it has no apex); that is a cylinder.
-      if (std::fabs(r1 - r2) <= 1e-12 * std::max(r1, r2))
-        return BRepPrimAPI_MakeCylinder(axis, (r1 + r2) / 2, h).Shape();
-      return BRepPrimAPI_MakeCone(axis, r1, r2, h).Shape();
-    }
-    case PrimitiveKind3D::Ellipsoid: {
-      const double a = positive(d[0], "x semi-axis", what), b = positive(d[1], "y semi-axis", what),
-                   c = positive(d[2], "z semi-axis", what);
-      if (a == b && b == c) return BRepPrimAPI_MakeSphere(a).Shape();
-      // OCCT has no ellipsoid primitive: a unit sphere under a non-uniform scale (the sphere
-      // becomes a B-spline surface; volume exact up to the B-spline fit, ~1e-9 relative).
-      gp_GTrsf scale;
-      scale.SetVectorialPart(gp_Mat(a, 0, 0, 0, b, 0, 0, 0, c));
-      return BRepBuilderAPI_GTransform(BRepPrimAPI_MakeSphere(1.0).Shape(), scale, Standard_True)
-          .Shape();
-    }
-    case PrimitiveKind3D::Torus: {
-      const double big = positive(d[0], "major radius", what);
-      double small = positive(d[1], "minor radius", what);
-      if (small > big * (1 + 1e-9))
-        throw InputError("cannot write STEP: " + what + " has a minor radius above its major radius");
-      // A horn torus (r = R) touches its own axis, a point where the surface is singular and
-      // BRepCheck rejects the solid; 1e-6 thinner keeps it valid and changes the volume by 1e-6.
-      small = std::min(small, big * (1 - 1e-6));
-      return BRepPrimAPI_MakeTorus(big, small).Shape();
-    }
-    case PrimitiveKind3D::TriangularPrism: {
-      const double w = positive(d[0], "width", what), h = positive(d[1], "height", what),
-                   depth = positive(d[2], "depth", what);
-      const double apex = finite(p.apex, "apex", what);
-      const double z = -depth / 2;
-      return extrude(polygon_face({gp_Pnt(-w / 2, -h / 2, z), gp_Pnt(w / 2, -h / 2, z),
-                                   gp_Pnt(apex * w / 2, h / 2, z)}),
-                     depth);
-    }
-    case PrimitiveKind3D::Nurbs: return nurbs_solid(p, what);
-  }
-  throw InputError("cannot write STEP: unknown primitive kind");
 }
 
 std::string describe(const Primitive3D& p, std::size_t n) {

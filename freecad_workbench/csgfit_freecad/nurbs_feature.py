@@ -21,6 +21,8 @@ from typing import Any, Dict, List, Sequence, Tuple
 
 import FreeCAD as App
 
+from .feature_proxy import PropertyProxy
+
 TYPE_ID = "Part::FeaturePython"
 #: OpenCASCADE's largest B-spline degree (Geom_BSplineSurface::MaxDegree).
 MAX_DEGREE = 25
@@ -181,32 +183,26 @@ def solid_under(surface, points, size_x: float, size_y: float, count_u: int, cou
 
 # ---- the feature --------------------------------------------------------------------------
 
-#: (property type, name, tooltip) of the feature, in the property editor's order.
-PROPERTIES = (
-    ("App::PropertyInteger", "DegreeU", "Degree of the patch along u (local x); 3 = cubic"),
-    ("App::PropertyInteger", "DegreeV", "Degree of the patch along v (local y); 3 = cubic"),
-    ("App::PropertyInteger", "CountU", "Control points along u (local x)"),
-    ("App::PropertyInteger", "CountV", "Control points along v (local y)"),
-    ("App::PropertyFloatList", "KnotsU",
-     "Clamped knot vector along u on [0, 1] (CountU + DegreeU + 1 knots)"),
-    ("App::PropertyFloatList", "KnotsV",
-     "Clamped knot vector along v on [0, 1] (CountV + DegreeV + 1 knots)"),
-    ("App::PropertyVectorList", "ControlPoints",
-     "CountU x CountV poles in the local frame, u index fastest; z = height above the floor"),
-    ("App::PropertyLength", "SizeX", "Width of the rectangle along local x (centred)"),
-    ("App::PropertyLength", "SizeY", "Depth of the rectangle along local y (centred)"),
-)
-GROUP = "NURBS terminal"
 
-
-class NurbsTerminal:
+class NurbsTerminal(PropertyProxy):
     """Proxy of the csgfit NURBS terminal: execute() rebuilds the B-spline face and the solid
     under it from the properties."""
 
-    def __init__(self, obj):
-        for kind, name, tip in PROPERTIES:
-            obj.addProperty(kind, name, GROUP, tip)
-        obj.Proxy = self
+    PROPERTIES = (
+        ("App::PropertyInteger", "DegreeU", "Degree of the patch along u (local x); 3 = cubic"),
+        ("App::PropertyInteger", "DegreeV", "Degree of the patch along v (local y); 3 = cubic"),
+        ("App::PropertyInteger", "CountU", "Control points along u (local x)"),
+        ("App::PropertyInteger", "CountV", "Control points along v (local y)"),
+        ("App::PropertyFloatList", "KnotsU",
+         "Clamped knot vector along u on [0, 1] (CountU + DegreeU + 1 knots)"),
+        ("App::PropertyFloatList", "KnotsV",
+         "Clamped knot vector along v on [0, 1] (CountV + DegreeV + 1 knots)"),
+        ("App::PropertyVectorList", "ControlPoints",
+         "CountU x CountV poles in the local frame, u index fastest; z = height above the floor"),
+        ("App::PropertyLength", "SizeX", "Width of the rectangle along local x (centred)"),
+        ("App::PropertyLength", "SizeY", "Depth of the rectangle along local y (centred)"),
+    )
+    GROUP = "NURBS terminal"
 
     def execute(self, obj):
         points = list(obj.ControlPoints)
@@ -216,16 +212,6 @@ class NurbsTerminal:
                             obj.CountV)
         shape.Placement = obj.Placement
         obj.Shape = shape
-
-    # The proxy holds no state of its own: everything is in the properties. FreeCAD 0.20
-    # saves a proxy through __getstate__ / __setstate__, later versions through dumps / loads.
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    dumps, loads = __getstate__, __setstate__
 
 
 def is_nurbs_terminal(obj) -> bool:

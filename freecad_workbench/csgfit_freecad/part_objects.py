@@ -41,6 +41,9 @@ Placement is centre + R * (local offset of that corner or base), rotation = the 
   nurbs      Part::FeaturePython "csgfit NURBS terminal" (nurbs_feature.py): DegreeU/V, CountU/V,
                               KnotsU/V, ControlPoints (local), SizeX/Y; the local origin is the
                               centre, on the floor z = 0 under the patch
+  rounded_box  Part::FeaturePython "csgfit rounded box" (rounded_box_feature.py): Length, Width,
+                              Height = size, Radius = corner; centred on its local origin (a
+                              Part::Fillet of a box cannot make the stadium, Radius = Width / 2)
 
 A subtree the document lists in "sweeps" (a profile extruded along an axis or turned about one)
 is built by sweep_objects.py instead: its leaves' sections as faces, one Part::Extrusion or
@@ -54,7 +57,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import FreeCAD as App
 
-from . import nurbs_feature
+from . import nurbs_feature, rounded_box_feature
 
 PRIMITIVE_TYPES = ("Part::Box", "Part::Cylinder", "Part::Ellipse", "Part::Extrusion",
                    "Part::Wedge", "Part::Sphere", "Part::Cone", "Part::Ellipsoid", "Part::Torus",
@@ -385,6 +388,21 @@ class PartTree:
         obj.Placement = _placement3d(d, where)
         return obj, obj
 
+    def _rounded_box(self, d, where):
+        size = _vector(d, "size", 3, where, True)
+        corner = _number(d, "corner", where, True)
+        if "sides" in d:
+            raise BuildError(f"{where}: a rounded box has round corners only, no 'sides'")
+        try:
+            obj = self._add(rounded_box_feature.TYPE_ID, "RoundedBox",
+                            lambda doc, name: rounded_box_feature.make_rounded_box(
+                                doc, name, size, corner))
+        except rounded_box_feature.OutlineError as e:
+            raise BuildError(f"{where}: {e} (size {size}, corner {corner})") from None
+        # Centred on its local origin: no offset, unlike the Part::Box's corner.
+        obj.Placement = _placement3d(d, where)
+        return obj, obj
+
     def _nurbs(self, d, where):
         leaf = _nurbs_leaf(d, where)
         try:
@@ -463,4 +481,6 @@ _MAKERS_3D = {"box": PartTree._box, "cube": PartTree._box, "sphere": PartTree._s
               "cylinder": PartTree._cylinder, "cone": PartTree._cone, "frustum": PartTree._cone,
               "ellipsoid": PartTree._ellipsoid, "torus": PartTree._torus,
               "prism": PartTree._prism, "wedge": PartTree._prism,
-              "triangular_prism": PartTree._prism, "nurbs": PartTree._nurbs}
+              "triangular_prism": PartTree._prism, "nurbs": PartTree._nurbs,
+              "rounded_box": PartTree._rounded_box, "rounded-box": PartTree._rounded_box,
+              "roundedbox": PartTree._rounded_box}

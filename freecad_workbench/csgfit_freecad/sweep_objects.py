@@ -6,6 +6,8 @@ the result, and a refined Part::MultiFuse of it with itself makes that one solid
 
   section          face                                          holds the leaf's
   rectangle        Part::Plane (Length = w, Width = h)           w, h (a cylinder's r and h)
+  rounded          Part::FeaturePython "csgfit rounded rectangle"  w, h = Length, Width and
+  rectangle        (rounded_box_feature.py), centred             r = Radius (a rounded box's)
   circle           Part::Face of a Part::Circle                  Radius
   circle, sides    Part::Face of a Part::RegularPolygon          Polygon, Circumradius
   triangle         Part::Face of a closed Part::Polygon          its corners (Nodes)
@@ -25,6 +27,7 @@ from typing import Any, Dict, Iterator, List, Tuple
 
 import FreeCAD as App
 
+from . import rounded_box_feature
 from .part_objects import BuildError, _number, _sides, _vector, rotation3d
 
 LINEAR, REVOLUTION = "linear_extrude", "rotate_extrude"
@@ -33,6 +36,7 @@ LINEAR, REVOLUTION = "linear_extrude", "rotate_extrude"
 #: leaf's own (a hand-edited tree whose sweeps no longer describe it is refused by them).
 _SECTION = {
     (LINEAR, "box"): "rectangle", (LINEAR, "cylinder"): "circle", (LINEAR, "prism"): "triangle",
+    (LINEAR, "rounded_box"): "rounded_rectangle",
     (REVOLUTION, "cylinder"): "rectangle", (REVOLUTION, "cone"): "polygon",
     (REVOLUTION, "torus"): "circle", (REVOLUTION, "sphere"): "half_disc",
 }
@@ -48,6 +52,10 @@ def _same_sizes(kind: str, leaf: Dict[str, Any], s: Dict[str, Any]) -> bool:
     if t == "box":
         size = leaf.get("size") or []
         return all(any(near(s.get(k), v) for v in size) for k in ("w", "h"))
+    if t == "rounded_box":
+        size = (leaf.get("size") or [])[:2]
+        return len(size) == 2 and near(s.get("r"), leaf.get("corner")) and \
+            any(near(s.get("w"), a) and near(s.get("h"), b) for a, b in (size, size[::-1]))
     if t == "prism":
         return all(near(s.get(k), leaf.get(k)) for k in ("w", "h")) and \
             near(abs(s.get("apex", 0.0)), abs(leaf.get("apex", 0.0)))
@@ -237,6 +245,20 @@ def _rectangle(tree, s, plane, revolved, where):
     return obj, obj
 
 
+def _rounded_rectangle(tree, s, plane, revolved, where):
+    w, h, r = (_number(s, k, where, positive=True) for k in ("w", "h", "r"))
+    cx, cy, angle = (_number(s, k, where, default=0.0) for k in ("cx", "cy", "angle"))
+    try:
+        obj = tree._add(rounded_box_feature.TYPE_ID, "RoundedRectangleSection",
+                        lambda doc, name: rounded_box_feature.make_rounded_rectangle(
+                            doc, name, w, h, r))
+    except rounded_box_feature.OutlineError as e:
+        raise BuildError(f"{where}: {e} (w {w}, h {h}, r {r})") from None
+    # Centred on its own origin, so it stays centred when its sizes change.
+    obj.Placement = _at(plane, cx, cy, angle)
+    return obj, obj
+
+
 def _circle(tree, s, plane, revolved, where):
     r = _number(s, "r", where, positive=True)
     cx, cy, angle = (_number(s, k, where, default=0.0) for k in ("cx", "cy", "angle"))
@@ -287,5 +309,5 @@ def _half_disc(tree, s, plane, revolved, where):
     return circle, obj
 
 
-_FACES = {"rectangle": _rectangle, "circle": _circle, "triangle": _triangle,
-          "polygon": _polygon, "half_disc": _half_disc}
+_FACES = {"rectangle": _rectangle, "rounded_rectangle": _rounded_rectangle, "circle": _circle,
+          "triangle": _triangle, "polygon": _polygon, "half_disc": _half_disc}

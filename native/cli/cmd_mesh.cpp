@@ -34,7 +34,8 @@ void add_mesh_options(CLI::App& mesh, MeshArgs& a) {
                {"STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid",
                 "output: .scad, .json, .step or .FCStd",
                 "size weight per primitive in voxels (default: 140 per million grid voxels)",
-                "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism (or all)",
+                "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism,rounded_box (or "
+                "all: every one but rounded_box)",
                 "OpenSCAD $fn for round primitives", "no progress bar, warnings or summary"});
   mesh.add_option("--resolution", a.resolution,
                   "voxels along the longest side of a mesh's search grid (0 = auto: a coarse grid "

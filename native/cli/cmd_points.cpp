@@ -43,7 +43,7 @@ void add_points_options(CLI::App& cmd, PointsArgs& a) {
   cmd.add_option("--threads", a.threads, "worker threads (0 = all cores)")
       ->check(obeys(option_rules::threads));
   cmd.add_option("--primitives", a.primitives,
-                 "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism,nurbs");
+                 "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism,rounded_box,nurbs");
   cmd.add_option("--scan", a.scan, "top (seen from above: 2.5D), all (all around) or auto")
       ->check(CLI::IsMember({"top", "all", "auto"}));
   cmd.add_option("--floor", a.floor, "top scans: the height of the table the part stands on")

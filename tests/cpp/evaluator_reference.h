@@ -2,6 +2,7 @@
 // trees on a fixed frame and the obviously-correct raster, one pixel or voxel centre at a time.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <random>
 #include <vector>
@@ -30,8 +31,9 @@ Mismatch mismatch_of(const Grid& raster, const Grid& target) {
 }
 
 /// A random 3D primitive of `kind` (in PrimitiveKind3D order, then 7 and 8 for the polygonal
-/// cylinder and cone of 3 to 12 sides) centred in the box [lo, hi], its sizes in
-/// [dim_lo, dim_hi], under a uniformly random rotation; a third of the round cones are pointed.
+/// cylinder and cone of 3 to 12 sides, 9 for the rounded box) centred in the box [lo, hi], its
+/// sizes in [dim_lo, dim_hi], under a uniformly random rotation; a third of the round cones are
+/// pointed, a third of the rounded boxes stadiums.
 inline Primitive3D random_primitive3d(std::mt19937_64& rng, int kind, const Vec3& lo, const Vec3& hi,
                                       double dim_lo, double dim_hi) {
   std::uniform_real_distribution<double> dim(dim_lo, dim_hi), apex(-1, 1), unit(0, 1);
@@ -55,6 +57,11 @@ inline Primitive3D random_primitive3d(std::mt19937_64& rng, int kind, const Vec3
       return Primitive3D::torus(x, y, z, major, major * (0.25 + 0.6 * unit(rng)), q);
     }
     case 6: return Primitive3D::prism(x, y, z, dim(rng), dim(rng), dim(rng), apex(rng), q);
+    case 9: {
+      const double sx = dim(rng), sy = dim(rng), most = std::min(sx, sy) / 2;
+      const double corner = unit(rng) < 0.3 ? most : most * (0.1 + 0.8 * unit(rng));
+      return Primitive3D::rounded_box(x, y, z, sx, sy, dim(rng), corner, q);
+    }
     default: {
       Primitive3D p =
           kind == 7 ? Primitive3D::cylinder(x, y, z, dim(rng) / 2, dim(rng), q)
@@ -135,7 +142,7 @@ struct Solid {
 
   static VoxelGrid frame() { return VoxelGrid(kNx, kNy, kNz, -1.0, 0.5, 2.0, 0.5); }
   static Primitive3D random_primitive(std::mt19937_64& rng) {
-    const int kind = static_cast<int>(rng() % 9);
+    const int kind = static_cast<int>(rng() % 10);
     return random_primitive3d(rng, kind, {2, 3, 4}, {17, 16, 16}, 2, 12);
   }
   static Node3D random_tree(std::mt19937_64& rng, int depth) {

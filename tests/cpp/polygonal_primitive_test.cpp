@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "bounds_checks.h"
 #include "csgfit/model/primitive3d.h"
 
 namespace csgfit {
@@ -59,13 +60,7 @@ TEST(PolygonalPrimitive, VerticesLieOnTheCircleAndTheTwistTurnsThem) {
 }
 
 TEST(PolygonalPrimitive, BoundsAreThoseOfTheVertices) {
-  auto expect_bounds = [](const Primitive3D& p, const Vec3& lo, const Vec3& hi) {
-    const Bounds3 b = p.bounds();
-    for (int a = 0; a < 3; ++a) {
-      EXPECT_NEAR(b.lo[a], lo[a], 1e-12) << "axis " << a;
-      EXPECT_NEAR(b.hi[a], hi[a], 1e-12) << "axis " << a;
-    }
-  };
+  using testing::expect_bounds;
   const Primitive3D hex = with_sides(Primitive3D::cylinder(1, 2, 3, 2, 4), 6);
   expect_bounds(hex, {-1, 2 - kSqrt3, 1}, {3, 2 + kSqrt3, 5});
   Primitive3D turned = hex;

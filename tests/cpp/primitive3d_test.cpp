@@ -1,6 +1,7 @@
 // 3D primitives: volumes of their voxelisations, rasterize against contains() voxel by voxel,
 // signed distances (sign, exactness), Euler angles, bounds, and rasterize timings; every kind,
-// and the polygonal cylinder and cone (polygonal_primitive_test.cpp has their own values).
+// and the polygonal cylinder and cone (polygonal_primitive_test.cpp and
+// rounded_box_primitive_test.cpp have their own values).
 #include "csgfit/model/primitive3d.h"
 
 #include <gtest/gtest.h>
@@ -19,20 +20,20 @@ constexpr double kPi = 3.14159265358979323846;
 const PrimitiveKind3D kKinds[] = {PrimitiveKind3D::Box,      PrimitiveKind3D::Sphere,
                                   PrimitiveKind3D::Cylinder, PrimitiveKind3D::Cone,
                                   PrimitiveKind3D::Ellipsoid, PrimitiveKind3D::Torus,
-                                  PrimitiveKind3D::TriangularPrism};
+                                  PrimitiveKind3D::TriangularPrism, PrimitiveKind3D::RoundedBox};
 
 // A kind, round or with a regular polygon of 3 to 12 sides as its section.
 struct Shape {
   PrimitiveKind3D kind;
   bool polygonal = false;
 };
-// Every kind, then the polygonal ones last (the round kinds draw the random numbers they drew
-// before there were polygons).
+// Every kind, then the polygonal ones and the rounded box last (the older kinds draw the
+// random numbers they drew before those were added).
 const Shape kShapes[] = {{PrimitiveKind3D::Box},      {PrimitiveKind3D::Sphere},
                          {PrimitiveKind3D::Cylinder}, {PrimitiveKind3D::Cone},
                          {PrimitiveKind3D::Ellipsoid}, {PrimitiveKind3D::Torus},
                          {PrimitiveKind3D::TriangularPrism}, {PrimitiveKind3D::Cylinder, true},
-                         {PrimitiveKind3D::Cone, true}};
+                         {PrimitiveKind3D::Cone, true}, {PrimitiveKind3D::RoundedBox}};
 
 Primitive3D polygonal(Primitive3D p, int sides) {
   p.sides = sides;
@@ -75,6 +76,14 @@ Primitive3D random_round(std::mt19937_64& rng, PrimitiveKind3D kind, double c[3]
     }
     case PrimitiveKind3D::TriangularPrism:
       return Primitive3D::prism(c[0], c[1], c[2], size(rng), size(rng), size(rng), apex(rng), q);
+    case PrimitiveKind3D::RoundedBox: {
+      // Every fourth is a stadium (the corner half the narrower side).
+      const double sx = size(rng), sy = size(rng), sz = size(rng);
+      const double most = std::min(sx, sy) / 2;
+      const double corner = unit(rng) < 0.25 ? most : most * (0.05 + 0.9 * unit(rng));
+      return Primitive3D::rounded_box(c[0], c[1], c[2], sx, sy, sz, corner, q);
+    }
+    case PrimitiveKind3D::Nurbs: break;  // nurbs_terminal_test.cpp
   }
   return {};
 }
@@ -309,8 +318,8 @@ TEST(Primitive3D, SignedDistanceIsExactForBoxSphereCylinderTorus) {
 }
 
 // For an exact distance, stepping -d along the normal lands on the surface, and the distance
-// is 1-Lipschitz; cone, prism and the polygonal cylinder are checked this way (and box,
-// cylinder, torus again).
+// is 1-Lipschitz; cone, prism, the polygonal cylinder and the rounded box are checked this way
+// (and box, cylinder, torus again).
 TEST(Primitive3D, SignedDistanceProjectsOntoTheSurface) {
   std::mt19937_64 rng(29);
   std::uniform_real_distribution<double> pt(-15, 15);
@@ -404,6 +413,7 @@ TEST(Primitive3D, RasterizeTimingOn128Cube) {
       Primitive3D::prism(64, 64, 64, 70, 60, 50, 0.3, q),
       polygonal(Primitive3D::cylinder(64, 64, 64, 30, 80, q), 6),
       polygonal(Primitive3D::cone(64, 64, 64, 35, 10, 80, q), 12),
+      Primitive3D::rounded_box(64, 64, 64, 80, 50, 40, 12, q),
   };
   for (const Primitive3D& p : prims) {
     rasterize(p, g);  // warm up

@@ -3,6 +3,7 @@
 // about one line, under random operators, in a random frame.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <random>
@@ -60,18 +61,18 @@ struct SweepRegion {
 };
 
 /// A prism along the frame's z spanning [-height/2, height/2] (a subtracted one may reach
-/// beyond): a box along any of its own axes, a round or polygonal cylinder, or a triangular
-/// prism.
+/// beyond): a box along any of its own axes, a round or polygonal cylinder, a triangular prism
+/// or a rounded box (a stadium one time in five).
 inline Primitive3D random_prism_leaf(std::mt19937_64& rng, const SweepRegion& r, bool subtracted) {
   std::uniform_real_distribution<double> across(-r.spread, r.spread), dim(r.size / 4, r.size),
-      apex(-1.2, 1.2), beyond(0.5, 3);
+      apex(-1.2, 1.2), beyond(0.5, 3), unit(0, 1);
   double lo = -r.height / 2, hi = r.height / 2;
   if (subtracted && rng() % 2) lo -= beyond(rng), hi += beyond(rng);
   const Vec3 local{across(rng), across(rng), (lo + hi) / 2};
   const double length = hi - lo;
   Primitive3D p;
   Quaternion to_axis;
-  switch (rng() % 4) {
+  switch (rng() % 5) {
     case 0: {
       const int axis = static_cast<int>(rng() % 3);
       static const double takes_to_z[3][3] = {{0, -90, 0}, {90, 0, 0}, {0, 0, 0}};
@@ -86,7 +87,13 @@ inline Primitive3D random_prism_leaf(std::mt19937_64& rng, const SweepRegion& r,
       p = Primitive3D::cylinder(0, 0, 0, dim(rng) / 2, length);
       p.sides = 3 + static_cast<int>(rng() % 6);
       break;
-    default: p = Primitive3D::prism(0, 0, 0, dim(rng), dim(rng), length, apex(rng)); break;
+    case 3: p = Primitive3D::prism(0, 0, 0, dim(rng), dim(rng), length, apex(rng)); break;
+    default: {
+      const double sx = dim(rng), sy = dim(rng), u = unit(rng);
+      const double corner = std::min(sx, sy) / 2 * (u < 0.2 ? 1 : 0.1 + 0.8 * u);
+      p = Primitive3D::rounded_box(0, 0, 0, sx, sy, length, corner);
+      break;
+    }
   }
   place_in_frame(rng, p, r.centre, r.frame, local, to_axis);
   return p;

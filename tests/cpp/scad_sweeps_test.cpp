@@ -49,6 +49,36 @@ TEST(ScadSweeps, PlateWithHolesIsAnExtrudedProfile) {
     EXPECT_TRUE(lacks(scad, gone)) << gone;
 }
 
+// A rounded box's section is its offset square, sized by fn_corner as the rounded box is; the
+// plate's is drawn with its long side along x (its size_y first), unturned.
+TEST(ScadSweeps, RoundedPlateIsAnExtrudedOffsetSquare) {
+  const std::string scad = to_scad(testing::rounded_plate_with_slot());
+  const std::string corner1 = "fn_corner(rbox_1_corner)", corner3 = "fn_corner(rbox_3_corner)";
+  EXPECT_TRUE(contains(
+      scad,
+      "module model() {\n"
+      "  translate([0, 0, extrude_1_z]) linear_extrude(height = extrude_1_h)\n"
+      "    difference() {\n"
+      "      translate([rbox_1_cx, rbox_1_cy]) offset(r = " + corner1 + ", $fn = corner_fn) "
+      "square([rbox_1_size_y - 2 * " + corner1 + ", rbox_1_size_x - 2 * " + corner1 +
+      "], center = true);\n"
+      "      translate([cyl_2_cx, cyl_2_cy]) circle(r = fn_r(cyl_2_r));\n"
+      "      translate([rbox_3_cx, rbox_3_cy]) rotate(rbox_3_angle) offset(r = " + corner3 +
+      ", $fn = corner_fn) square([rbox_3_size_x - 2 * " + corner3 + ", rbox_3_size_y - 2 * " +
+      corner3 + "], center = true);\n"
+      "    }\n"
+      "}\n"))
+      << scad;
+  EXPECT_TRUE(contains(scad, "/* [Rounded box 1] */\nrbox_1_cx = 16; //"));
+  EXPECT_TRUE(contains(scad, "rbox_1_size_y = 26; //"));
+  EXPECT_TRUE(contains(scad, "rbox_1_corner = 4; //"));
+  EXPECT_TRUE(contains(scad, "rbox_3_angle = 30; //"));
+  EXPECT_TRUE(contains(scad, "corner_fn = 4 * ceil(segments / 4);"));
+  for (const char* gone :
+       {"rbox_1_size_z", "rbox_3_size_z", "rbox_1_rot_z", "cyl_2_h", "center = true) offset"})
+    EXPECT_TRUE(lacks(scad, gone)) << gone;
+}
+
 TEST(ScadSweeps, BracketIsAnUprightProfileExtrudedAlongY) {
   const std::string scad = to_scad(testing::bracket());
   EXPECT_TRUE(contains(scad,
@@ -129,8 +159,9 @@ TEST(ScadSweepRoundTrip, DumpFilesForOpenScad) {
   std::printf("random sweeps: CSGFIT_TEST_SEED=%llu\n", static_cast<unsigned long long>(seed));
   std::mt19937_64 rng(seed);
   std::vector<Node3D> trees = {testing::plate_with_holes(), testing::bracket(),
-                               testing::turned_part(), testing::steps()};
-  while (trees.size() < 16) {
+                               testing::turned_part(), testing::steps(),
+                               testing::rounded_plate_with_slot()};
+  while (trees.size() < 17) {
     testing::SweepRegion region;
     region.frame = testing::random_sweep_frame(rng);
     Node3D t = trees.size() % 2 ? testing::random_revolution_tree(rng, region)

@@ -154,6 +154,30 @@ TEST(ScadWriter3D, PolygonalCylindersAndConesAreWrittenAsTheirPolygons) {
   }
 }
 
+// A rounded box is written as designers write it, its corner a parameter drawn through
+// fn_corner (the radius that keeps the fitted area with corner_fn, $fn made a multiple of 4).
+TEST(ScadWriter3D, RoundedBoxesAreAnOffsetSquareExtruded) {
+  const Primitive3D slot =
+      Primitive3D::rounded_box(5, 5, 2, 20, 10, 4, 5, Quaternion::from_axis_angle(0, 0, 1, 30));
+  const std::string scad = to_scad(Node3D::leaf(slot));
+  EXPECT_TRUE(contains(scad, "linear_extrude(height = rbox_1_size_z, center = true) "
+                             "offset(r = fn_corner(rbox_1_corner), $fn = corner_fn) "
+                             "square([rbox_1_size_x - 2 * fn_corner(rbox_1_corner), "
+                             "rbox_1_size_y - 2 * fn_corner(rbox_1_corner)], center = true);"))
+      << scad;
+  EXPECT_TRUE(contains(scad, "/* [Rounded box 1] */"));
+  EXPECT_TRUE(contains(scad, "rbox_1_corner = 5; //"));
+  EXPECT_TRUE(contains(scad, "rbox_1_rot_z = 30; //"));
+  EXPECT_TRUE(contains(scad, "corner_fn = 4 * ceil(segments / 4);"));
+  EXPECT_TRUE(contains(scad, "function fn_corner(r) = "));
+  EXPECT_TRUE(lacks(to_scad(Node3D::leaf(Primitive3D::box(0, 0, 0, 1, 2, 3))), "fn_corner"));
+  for (double corner : {0.0, 5.5, std::nan("")}) {
+    Primitive3D bad = slot;
+    bad.corner = corner;
+    EXPECT_THROW(to_scad(Node3D::leaf(bad)), InputError) << corner;
+  }
+}
+
 TEST(ScadWriter3D, SourceNamesAreSafe) {
   ScadOptions3D options;
   options.source = "evil\n}module x(){";
@@ -201,11 +225,18 @@ TEST(ScadWriter3DRoundTrip, DumpFilesForOpenScad) {
   ScadOptions3D options;
   options.fn = 48;
   // Trees 0-8: every kind alone (7, 8: the polygonal cylinder and cone); 9-13: random trees of
-  // three or four primitives.
-  for (int t = 0; t < 14; ++t) {
+  // three or four primitives; 14: a rounded box alone, 15: one less two random primitives.
+  for (int t = 0; t < 16; ++t) {
     Node3D tree;
     if (t < 9) {
       tree = Node3D::leaf(random_primitive(rng, t));
+    } else if (t == 14) {
+      tree = Node3D::leaf(random_primitive(rng, 9));
+    } else if (t == 15) {
+      tree = Node3D::op(NodeKind::Difference,
+                        {Node3D::leaf(random_primitive(rng, 9)),
+                         Node3D::leaf(random_primitive(rng, static_cast<int>(rng() % 9))),
+                         Node3D::leaf(random_primitive(rng, static_cast<int>(rng() % 9)))});
     } else {
       auto pick = [&] { return Node3D::leaf(random_primitive(rng, static_cast<int>(rng() % 9))); };
       const NodeKind op = t % 3 == 0 ? NodeKind::Intersection : NodeKind::Union;

@@ -101,6 +101,9 @@ std::vector<Primitive3D> tilted_primitives() {
       polygonal(Primitive3D::cone(0, 1, -2, 0, 1.3, 2.2, kTilt), 5),        // tip at the bottom
       polygonal(Primitive3D::cone(0, 1, -2, 1.1, 0, 2.2, kTilt), 3),        // tip at the top
       polygonal(Primitive3D::cone(0, 1, -2, 1.1, 1.1, 2.2, kTilt), 12),     // radii equal
+      Primitive3D::rounded_box(1, 2, 3, 4, 2.5, 1.5, 0.6, kTilt),
+      Primitive3D::rounded_box(-1, 0, 1, 4, 2.5, 1.5, 1.25, kTilt),        // stadium
+      Primitive3D::rounded_box(0, 1, 0, 2, 2, 3, 1, kTilt),                // disc
   };
 }
 
@@ -124,6 +127,20 @@ TEST(StepWriter, PolygonalPrimitivesHaveTheirExactVolume) {
     if (!p.is_polygonal()) continue;
     EXPECT_NEAR(shape_volume(make_shape(p)), p.volume(), 1e-9 * p.volume()) << p.sides << " sides";
   }
+}
+
+// A rounded box's faces are planes and quarter cylinders: its solid's volume is exact.
+TEST(StepWriter, RoundedBoxesHaveTheirExactVolume) {
+  int n = 0;
+  for (const Primitive3D& p : tilted_primitives()) {
+    if (p.kind != PrimitiveKind3D::RoundedBox) continue;
+    ++n;
+    EXPECT_NEAR(shape_volume(make_shape(p)), p.volume(), 1e-9 * p.volume()) << "corner " << p.corner;
+  }
+  EXPECT_EQ(n, 3);
+  Primitive3D over = Primitive3D::rounded_box(0, 0, 0, 4, 2, 1, 1);
+  over.corner = 1.1;
+  EXPECT_THROW(make_shape(over), InputError);
 }
 
 TEST(StepWriter, EachExtruded2DPrimitiveHasItsVolumeAndPlace) {

@@ -18,6 +18,20 @@ inline Node3D plate_with_holes() {
                      Node3D::leaf(Primitive3D::cylinder(24, 11, 10, 2.5, 8)), Node3D::leaf(hex)});
 }
 
+/// A rounded plate, 26 x 18 x 4 with corners of radius 4 (z from 8 to 12; a rounded box of
+/// sizes 18 x 26 turned by 90 degrees, so that the plane sees its y first), minus a round
+/// hole and a slot (a stadium 8 x 3 turned by 30 degrees) that both reach beyond it: one
+/// linear sweep along z, 4 high.
+inline Node3D rounded_plate_with_slot() {
+  return Node3D::op(
+      NodeKind::Difference,
+      {Node3D::leaf(Primitive3D::rounded_box(16, 16, 10, 18, 26, 4, 4,
+                                             Quaternion::from_axis_angle(0, 0, 1, 90))),
+       Node3D::leaf(Primitive3D::cylinder(9, 16, 10, 2.5, 8)),
+       Node3D::leaf(Primitive3D::rounded_box(22, 16, 10, 8, 3, 6, 1.5,
+                                             Quaternion::from_axis_angle(0, 0, 1, 30)))});
+}
+
 /// An L bracket: a 24 x 14 x 4 base (x from 4 to 28, z from 4 to 8) and a 4 x 14 x 22 wall on
 /// its end (x from 4 to 8, up to z = 26), both 14 long in y: swept along y.
 inline Node3D bracket() {

@@ -32,6 +32,13 @@ bool section_contains(SweepKind kind, const SweepSection& s, double u, double v)
     switch (p.kind) {
       case PrimitiveKind3D::Box:
         return std::fabs(lu) <= p.dims[s.across[0]] / 2 && std::fabs(lv) <= p.dims[s.across[1]] / 2;
+      case PrimitiveKind3D::RoundedBox: {
+        // The rectangle of the corner centres grown by the corner radius.
+        const double qu = std::fabs(lu) - (p.dims[s.across[0]] / 2 - p.corner);
+        const double qv = std::fabs(lv) - (p.dims[s.across[1]] / 2 - p.corner);
+        return std::hypot(std::max(qu, 0.0), std::max(qv, 0.0)) + std::min(std::max(qu, qv), 0.0) <=
+               p.corner;
+      }
       case PrimitiveKind3D::Cylinder: {
         if (!p.is_polygonal()) return du * du + dv * dv <= p.dims[0] * p.dims[0];
         const double apothem = p.dims[0] * std::cos(kPi / p.sides);
@@ -129,6 +136,48 @@ TEST(Sweeps, PlateWithHolesIsOneLinearSweepAcrossItsThickness) {
   for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(s.sections[i].leaf_index, i);
   std::mt19937_64 rng(1);
   EXPECT_GT(expect_same_solid(s, rng), 100);
+}
+
+// A rounded plate minus a hole and a slot is a plate with holes too: its section is the
+// rounded rectangle, which the plane sees turned back to its long side along x.
+TEST(Sweeps, RoundedPlateWithASlotIsOneLinearSweep) {
+  const Node3D plate = testing::rounded_plate_with_slot();
+  const std::vector<Sweep> sweeps = find_sweeps(plate);
+  ASSERT_EQ(sweeps.size(), 1u);
+  const Sweep& s = sweeps[0];
+  EXPECT_EQ(s.kind, SweepKind::Linear);
+  EXPECT_EQ(s.root, &plate);
+  EXPECT_NEAR(s.height, 4, 1e-12);
+  EXPECT_TRUE(s.rotation.is_identity());
+  EXPECT_NEAR(s.origin[2], 8, 1e-12);
+  ASSERT_EQ(s.sections.size(), 3u);
+  EXPECT_EQ(s.sections[0].across[0], 1);  // the rounded box's y (26) is the plane's x
+  EXPECT_EQ(s.sections[0].across[1], 0);
+  EXPECT_NEAR(s.sections[0].angle, 0, 1e-9);
+  EXPECT_NEAR(s.sections[2].x, 22, 1e-12);
+  EXPECT_NEAR(s.sections[2].angle, 30, 1e-9);
+  std::mt19937_64 rng(6);
+  EXPECT_GT(expect_same_solid(s, rng), 100);
+}
+
+// A rounded box is a prism along its local z only: beside a box of its sizes it is swept along
+// z, however thin it is across.
+TEST(Sweeps, RoundedBoxIsAPrismAlongItsLocalZOnly) {
+  const Node3D pair =
+      Node3D::op(NodeKind::Union, {leaf(Primitive3D::rounded_box(0, 0, 0, 10, 4, 10, 1)),
+                                   leaf(Primitive3D::box(8, 0, 0, 10, 4, 10))});
+  const std::vector<Sweep> sweeps = find_sweeps(pair);
+  ASSERT_EQ(sweeps.size(), 1u);
+  EXPECT_NEAR(sweeps[0].height, 10, 1e-12);  // not 4 (along y), as two boxes would be
+  EXPECT_TRUE(sweeps[0].rotation.is_identity());
+  std::mt19937_64 rng(7);
+  EXPECT_GT(expect_same_solid(sweeps[0], rng), 100);
+  // Lying on its side, it is no prism along the box's z.
+  const Quaternion on_its_side = Quaternion::from_euler_deg(90, 0, 0);
+  const Node3D lying = Node3D::op(
+      NodeKind::Union, {leaf(Primitive3D::rounded_box(0, 0, 0, 10, 10, 4, 1, on_its_side)),
+                        leaf(Primitive3D::box(8, 0, 0, 10, 10, 4))});
+  EXPECT_TRUE(find_sweeps(lying).empty());
 }
 
 // Two boxes of an L, both 14 long in y: the L is the profile, swept along y, drawn upright.

@@ -194,6 +194,8 @@ def static_shape3d(node):
         m = App.Matrix()
         m.scale(rx, ry, rz)
         s = Part.makeSphere(1.0).transformGeometry(m)
+    elif t in ("rounded_box", "rounded-box"):
+        s = rounded_box_pieces(node["size"], node["corner"])
     elif t == "prism":
         w, h, d, apex = node["w"], node["h"], node["depth"], node.get("apex", 0.0)
         pts = [V(-w / 2, -h / 2, -d / 2), V(w / 2, -h / 2, -d / 2), V(apex * w / 2, h / 2, -d / 2)]
@@ -207,6 +209,28 @@ def static_shape3d(node):
     s = s.copy()
     s.transformShape(m, True)
     return s
+
+
+def rounded_box_pieces(size, r):
+    """A rounded box centred on the origin as the union of what makes it: the two slabs that
+    cross at the corner centres (either left out when it has no width) and four cylinders."""
+    import FreeCAD as App
+    import Part
+
+    sx, sy, sz = size
+    V = App.Vector
+    pieces = [Part.makeCylinder(r, sz, V(x, y, -sz / 2))
+              for x in (-(sx / 2 - r), sx / 2 - r) for y in (-(sy / 2 - r), sy / 2 - r)]
+    if sx - 2 * r > 1e-9:
+        pieces.append(Part.makeBox(sx - 2 * r, sy, sz, V(-(sx / 2 - r), -sy / 2, -sz / 2)))
+    if sy - 2 * r > 1e-9:
+        pieces.append(Part.makeBox(sx, sy - 2 * r, sz, V(-sx / 2, -(sy / 2 - r), -sz / 2)))
+    return pieces[0].multiFuse(pieces[1:]).removeSplitter()
+
+
+def rounded_box_volume(size, r):
+    """The rectangle less its four corner squares plus four quarter discs, times the height."""
+    return size[2] * (size[0] * size[1] - (4 - math.pi) * r * r)
 
 
 def polygonal_volume(sides, r1, r2, h):

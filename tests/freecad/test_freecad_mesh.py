@@ -23,7 +23,7 @@ try:
 except ImportError as e:  # pragma: no cover
     pytest.skip(f"FreeCAD Python API not available ({e})", allow_module_level=True)
 
-from csgfit_freecad import builder, mesh_input  # noqa: E402
+from csgfit_freecad import builder, mesh_input, rounded_box_feature  # noqa: E402
 
 R45Z = [math.cos(math.pi / 8), 0, 0, math.sin(math.pi / 8)]        # 45 degrees about z
 R30X = [math.cos(math.pi / 12), math.sin(math.pi / 12), 0, 0]      # 30 degrees about x
@@ -119,6 +119,56 @@ def test_bad_sides_raise_build_error(doc):
         tree = {"type": "cylinder", "center": [0, 0, 0], "r": 1, "h": 2, "sides": sides}
         with pytest.raises(builder.BuildError, match="sides"):
             builder.build(doc, tree)
+        assert doc.Objects == []
+
+
+ROUNDED_3D = {"op": "union", "children": [
+    {"type": "rounded_box", "center": [0, 0, 0], "rotation": TILT, "size": [20, 10, 4],
+     "corner": 3},
+    {"type": "rounded_box", "center": [30, 0, 0], "rotation": R45Z, "size": [12, 5, 3],
+     "corner": 2.5},
+    {"type": "rounded-box", "center": [50, 0, 0], "rotation": R30X, "size": [6, 6, 2],
+     "corner": 3},
+]}
+
+
+def test_rounded_boxes_are_features_whose_corner_edits(doc):
+    # A rounded box, a stadium and a disc.
+    built = builder.build(doc, ROUNDED_3D, label="rounded")
+    assert builder.check_tree(doc, built.group) == []
+    for prim, _, obj in built.primitives:
+        assert rounded_box_feature.is_rounded_box(obj)
+        volume = H.rounded_box_volume(prim["size"], prim["corner"])
+        shape = obj.Shape
+        assert shape.isValid() and len(shape.Solids) == 1, prim
+        assert shape.Volume == pytest.approx(volume, rel=1e-6), prim
+        # Where the solver puts it, built independently from slabs and cylinders.
+        assert shape.common(H.static_shape3d(prim)).Volume == pytest.approx(volume, rel=1e-6), prim
+    # Editing the corner recomputes: the rounded box becomes a stadium, the stadium gets smaller
+    # corners; both stay centred where they were.
+    first, stadium = built.primitives[0][1], built.primitives[1][1]
+    first.Radius = 5.0
+    stadium.Radius = 1.0
+    doc.recompute()
+    assert builder.check_tree(doc, built.group) == []
+    assert first.Shape.Volume == pytest.approx(H.rounded_box_volume((20, 10, 4), 5), rel=1e-6)
+    assert stadium.Shape.Volume == pytest.approx(H.rounded_box_volume((12, 5, 3), 1), rel=1e-6)
+    for obj, centre in ((first, (0, 0, 0)), (stadium, (30, 0, 0))):
+        c = obj.Shape.CenterOfMass
+        assert (c.x, c.y, c.z) == pytest.approx(centre, abs=1e-9)
+    # A corner over half the width does not recompute.
+    first.Radius = 5.5
+    doc.recompute()
+    assert "Invalid" in first.State or "Error" in first.State
+
+
+def test_bad_rounded_boxes_raise_build_error(doc):
+    rounded = {"type": "rounded_box", "center": [0, 0, 0], "size": [4, 2, 1]}
+    for extra, match in (({"corner": 0}, "corner"), ({"corner": 1.01}, "Radius"),
+                         ({"corner": "1"}, "corner"), ({}, "corner"),
+                         ({"corner": 0.5, "sides": 8}, "sides")):
+        with pytest.raises(builder.BuildError, match=match):
+            builder.build(doc, dict(rounded, **extra))
         assert doc.Objects == []
 
 

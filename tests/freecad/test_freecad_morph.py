@@ -260,6 +260,13 @@ def test_structure_mismatch_raises_and_leaves_nothing(doc):
         morph_builder.build_morph(doc, bad)
     with pytest.raises(builder.BuildError, match="not a morph"):
         morph_builder.build_morph(doc, interpolated(MORPH_2D, 0.5))
+    # Nor interpolates a rounded box's corner: one in a morph document is refused.
+    bad = copy.deepcopy(MORPH_3D)
+    for tree in (bad["tree"], bad["morph"]["tree_b"]):
+        tree["children"][1] = {"type": "rounded_box", "center": [40, 10, 5], "size": [4, 2, 1],
+                               "corner": 0.5}
+    with pytest.raises(builder.BuildError, match="does not interpolate 'rounded_box'"):
+        morph_builder.build_morph(doc, bad)
     # csgfit morph never makes a polygonal cylinder: one in a hand-made document is refused.
     bad = copy.deepcopy(MORPH_3D)
     bad["morph"]["tree_b"]["children"][0]["children"][1]["sides"] = 6

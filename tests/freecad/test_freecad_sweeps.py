@@ -20,7 +20,7 @@ try:
 except ImportError as e:  # pragma: no cover
     pytest.skip(f"FreeCAD Python API not available ({e})", allow_module_level=True)
 
-from csgfit_freecad import builder  # noqa: E402
+from csgfit_freecad import builder, rounded_box_feature  # noqa: E402
 
 doc = H.document_fixture("csgfit_sweeps_test")
 
@@ -54,6 +54,12 @@ PLATE = {"op": "difference", "children": [
     {"type": "cylinder", "center": [24, 11, 10], "r": 2.5, "h": 8},
     {"type": "cylinder", "center": [16, 20, 10], "rotation": q_axis((0, 0, 1), 10), "r": 3,
      "h": 4, "sides": 6}]}
+ROUNDED_PLATE = {"op": "difference", "children": [
+    {"type": "rounded_box", "center": [16, 16, 10], "rotation": q_axis((0, 0, 1), 90),
+     "size": [18, 26, 4], "corner": 4},
+    {"type": "cylinder", "center": [9, 16, 10], "r": 2.5, "h": 8},
+    {"type": "rounded_box", "center": [22, 16, 10], "rotation": q_axis((0, 0, 1), 30),
+     "size": [8, 3, 6], "corner": 1.5}]}
 BRACKET = {"op": "union", "children": [
     {"type": "box", "center": [16, 16, 6], "size": [24, 14, 4]},
     {"type": "box", "center": [6, 16, 15], "size": [4, 14, 22]}]}
@@ -102,7 +108,8 @@ def check_built(doc, tree, label):
 
 
 @pytest.mark.parametrize("tree, label, sweep", [
-    (PLATE, "plate", "Part::Extrusion"), (BRACKET, "bracket", "Part::Extrusion"),
+    (PLATE, "plate", "Part::Extrusion"), (ROUNDED_PLATE, "rounded_plate", "Part::Extrusion"),
+    (BRACKET, "bracket", "Part::Extrusion"),
     (TURNED, "turned", "Part::Revolution"), (KNOB, "knob", "Part::Revolution")])
 def test_hand_made_sweeps_are_swept_profiles_of_the_trees_volume(doc, tree, label, sweep):
     built, types = check_built(doc, tree, label)
@@ -161,6 +168,33 @@ def test_editing_a_section_keeps_it_centred_and_a_revolved_band_on_its_axis(doc)
     assert (box.XMin, box.XMax) == (pytest.approx(1.0), pytest.approx(31.0))
 
 
+def test_a_rounded_boxs_section_is_a_rounded_rectangle_whose_radius_edits(doc):
+    built = builder.build(doc, document(copy.deepcopy(ROUNDED_PLATE)), label="rounded_plate")
+    plate, slot = built.primitives[0][1], built.primitives[2][1]
+    assert rounded_box_feature.is_rounded_rectangle(plate)
+    # The plane sees the plate's long side first; the slot is a stadium.
+    assert (plate.Length.Value, plate.Width.Value, plate.Radius.Value) == (26, 18, 4)
+    assert (slot.Length.Value, slot.Width.Value, slot.Radius.Value) == (8, 3, 1.5)
+    plate.Radius = 9.0  # the plate becomes a stadium too
+    doc.recompute()
+    assert builder.check_tree(doc, built.group) == []
+    rounder = copy.deepcopy(ROUNDED_PLATE)
+    rounder["children"][0]["corner"] = 9
+    expected = H.static_shape3d(rounder)
+    assert built.root.Shape.Volume == pytest.approx(expected.Volume, rel=REL)
+    assert built.root.Shape.common(expected).Volume == pytest.approx(expected.Volume, rel=REL)
+    # Its centre stays where it was.
+    box = built.root.Shape.BoundBox
+    assert (box.XMin, box.XMax, box.YMin, box.YMax) == \
+        tuple(pytest.approx(v) for v in (3, 29, 7, 25))
+    # A corner over half the smaller side is refused, as the rounded box's own is.
+    stale = document(copy.deepcopy(ROUNDED_PLATE))
+    stale["sweeps"][0]["sections"][0]["r"] = 10
+    stale["tree"]["children"][0]["corner"] = 10
+    with pytest.raises(builder.BuildError, match="Radius must be"):
+        builder.build(doc, stale)
+
+
 def test_sweeps_that_do_not_describe_the_tree_are_refused(doc):
     good = document(copy.deepcopy(PLATE))
     edited = copy.deepcopy(good)
@@ -201,7 +235,8 @@ def placed(rng, leaf, frame, local, to_axis=(1, 0, 0, 0)):
 
 
 def prism_leaf(rng, frame, subtracted):
-    """A prism along the frame's z over [-4.5, 4.5] (a subtracted one may reach beyond)."""
+    """A prism along the frame's z over [-4.5, 4.5] (a subtracted one may reach beyond): a box,
+    a round or polygonal cylinder, a triangular prism or a rounded box."""
     lo, hi = -4.5, 4.5
     if subtracted and rng.random() < 0.5:
         lo, hi = lo - rng.uniform(0.5, 3), hi + rng.uniform(0.5, 3)
@@ -210,7 +245,7 @@ def prism_leaf(rng, frame, subtracted):
     def dim():
         return rng.uniform(2, 8)
 
-    kind = rng.randrange(4)
+    kind = rng.randrange(5)
     if kind == 0:
         k = rng.randrange(3)
         size = [dim(), dim(), dim()]
@@ -220,6 +255,12 @@ def prism_leaf(rng, frame, subtracted):
     if kind == 3:
         return placed(rng, {"type": "prism", "w": dim(), "h": dim(), "depth": hi - lo,
                             "apex": rng.uniform(-1.2, 1.2)}, frame, local)
+    if kind == 4:  # a rounded box, a stadium one time in five
+        sx, sy = dim(), dim()
+        u = rng.random()
+        corner = min(sx, sy) / 2 * (1 if u < 0.2 else 0.1 + 0.8 * u)
+        return placed(rng, {"type": "rounded_box", "size": [sx, sy, hi - lo], "corner": corner},
+                      frame, local)
     leaf = {"type": "cylinder", "r": dim() / 2, "h": hi - lo}
     if kind == 2:
         leaf["sides"] = rng.randrange(3, 9)

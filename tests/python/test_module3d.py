@@ -231,6 +231,41 @@ def test_a_polygonal_cylinder_shows_its_sides():
     assert "sides=6" in str(nut) and "sides" not in str(hole)
 
 
+def rounded_plate():
+    """[i, j, k] = voxel (x, y, z): a plate 30 x 20 x 8 whose edges along z are rounded with
+    radius 6, centred at (20, 14, 6)."""
+    i, j, k = np.mgrid[0:40, 0:28, 0:12] + 0.5
+    qx, qy = np.abs(i - 20) - 9, np.abs(j - 14) - 4
+    section = np.hypot(np.maximum(qx, 0), np.maximum(qy, 0)) + np.minimum(np.maximum(qx, qy), 0)
+    return (section <= 6) & (np.abs(k - 6) <= 4)
+
+
+def test_a_rounded_box_is_fitted_when_named_and_shows_its_corner():
+    plate = rounded_plate()
+    r = csgfit.fit_voxels(plate, primitives="box,rounded_box", k=60, time=20, threads=1)
+    assert r.stats.iou > 0.99 and r.stats.primitives == 1
+    leaf = r.tree
+    assert leaf.type == "rounded_box"
+    assert leaf.corner == pytest.approx(6, abs=0.75)
+    assert leaf.size == pytest.approx((30, 20, 8), abs=0.75)
+    assert f"corner={leaf.corner:.4g}" in str(leaf)
+    assert leaf.to_dict() == r.document["tree"]
+    # Boxes only (the default): no rounded box, and a worse fit.
+    boxes = csgfit.fit_voxels(plate, primitives="box", k=60, time=20, threads=1)
+    assert "rounded_box" not in str(boxes.tree)
+    assert boxes.stats.iou < r.stats.iou - 0.01
+    assert "rounded_box" in csgfit.PRIMITIVE_TYPES_3D
+
+
+def test_a_rounded_box_document_round_trips_through_the_tree():
+    doc = {"type": "rounded_box", "center": [1, 2, 3], "rotation": [1, 0, 0, 0],
+           "euler_deg": [0, 0, 0], "size": [20, 10, 4], "corner": 5}
+    leaf = csgfit.tree.tree_from_json3d(doc)
+    assert (leaf.type, leaf.size, leaf.corner, leaf.sides) == ("rounded_box", (20, 10, 4), 5, None)
+    assert leaf.to_dict() == doc
+    assert str(leaf) == "rounded_box(center=(1, 2, 3), size=(20, 10, 4), corner=5)"
+
+
 def quaternion_matrix(q):
     w, x, y, z = q
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],

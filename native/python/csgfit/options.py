@@ -15,7 +15,8 @@ FitProgress = _csgfit.FitProgress
 
 PRIMITIVE_TYPES = ("rectangle", "circle", "ellipse", "triangle")
 #: 3D primitive names (JSON "type"); "prism" is the triangular prism.
-PRIMITIVE_TYPES_3D = ("box", "sphere", "cylinder", "cone", "ellipsoid", "torus", "prism")
+PRIMITIVE_TYPES_3D = ("box", "sphere", "cylinder", "cone", "ellipsoid", "torus", "prism",
+                      "rounded_box")
 #: What fit_mesh / fit_voxels use by default (the CLI's default: no torus).
 DEFAULT_PRIMITIVES_3D = ("box", "sphere", "cylinder", "cone", "ellipsoid", "prism")
 QUALITIES = ("fast", "default", "best", "paper")

@@ -121,6 +121,7 @@ SIZE_FIELDS_3D = {
     "torus": ("R", "r"),
     "prism": ("w", "h", "depth", "apex"),
     "nurbs": ("size", "degree", "counts", "knots_u", "knots_v", "control_points"),
+    "rounded_box": ("size", "corner"),
 }
 
 
@@ -135,7 +136,9 @@ class Primitive3D(_Leaf):
     z = -h/2), `r2`, `h`; ellipsoid `radii` (x, y, z); torus `R` (major), `r` (minor); prism
     `w`, `h`, `apex` (its triangle, as in 2D) and `depth` along local z; nurbs (seed 004's
     NURBS terminal) `size` (sx, sy, top), `degree`, `counts`, `knots_u`, `knots_v` and
-    `control_points` (local, u index fastest; the solid lies between local z = 0 and the patch).
+    `control_points` (local, u index fastest; the solid lies between local z = 0 and the patch);
+    rounded_box `size` (x, y, z) and `corner`, the radius of its four edges along local z (half
+    the smaller of x and y: a stadium).
     sides: a cylinder's or cone's regular polygon (OpenSCAD's `$fn`, its vertices on the
     circle of the radius, vertex 0 on local +x), None when it is round.
     """
@@ -159,6 +162,7 @@ class Primitive3D(_Leaf):
     knots_u: Optional[Tuple[float, ...]] = None
     knots_v: Optional[Tuple[float, ...]] = None
     control_points: Optional[Tuple[Vec3, ...]] = None
+    corner: Optional[float] = None
     sides: Optional[int] = None
 
     @classmethod

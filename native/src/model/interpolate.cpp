@@ -84,6 +84,7 @@ Primitive3D interpolate(const Primitive3D& a, const Primitive3D& b, double t) {
   p.cz = lerp(a.cz, b.cz, t);
   for (int i = 0; i < 3; ++i) p.dims[i] = lerp(a.dims[i], b.dims[i], t);
   p.apex = lerp(a.apex, b.apex, t);
+  p.corner = lerp(a.corner, b.corner, t);
   Vec3 axis;
   double degrees = 0;
   relative_turn(a.rotation, b.rotation, axis, degrees);

@@ -10,6 +10,7 @@
 #include "model/nurbs_terminal.h"
 #include "model/polygonal_solid.h"
 #include "model/prism_triangle.h"
+#include "model/rounded_box.h"
 
 namespace csgfit {
 
@@ -56,6 +57,7 @@ std::string_view to_string(PrimitiveKind3D kind) {
     case PrimitiveKind3D::Torus: return "torus";
     case PrimitiveKind3D::TriangularPrism: return "prism";
     case PrimitiveKind3D::Nurbs: return "nurbs";
+    case PrimitiveKind3D::RoundedBox: return "rounded_box";
   }
   return "?";
 }
@@ -70,9 +72,11 @@ PrimitiveKind3D primitive_kind3d_from_string(std::string_view name) {
   if (name == "prism" || name == "triangular_prism" || name == "wedge")
     return PrimitiveKind3D::TriangularPrism;
   if (name == "nurbs" || name == "bspline") return PrimitiveKind3D::Nurbs;
+  if (name == "rounded_box" || name == "rounded-box" || name == "roundedbox")
+    return PrimitiveKind3D::RoundedBox;
   throw std::invalid_argument(
       "unknown 3D primitive '" + std::string(name) +
-      "' (expected box, sphere, cylinder, cone, ellipsoid, torus, prism or nurbs)");
+      "' (expected box, sphere, cylinder, cone, ellipsoid, torus, prism, nurbs or rounded_box)");
 }
 
 PrimitiveSet3D PrimitiveSet3D::all() {
@@ -130,13 +134,14 @@ bool is_axially_symmetric(const Primitive3D& p) {
 
 namespace {
 Primitive3D make(PrimitiveKind3D kind, double cx, double cy, double cz, const Quaternion& q,
-                 Vec3 dims, double apex = 0) {
+                 Vec3 dims, double apex = 0, double corner = 0) {
   Primitive3D p;
   p.kind = kind;
   p.cx = cx, p.cy = cy, p.cz = cz;
   p.rotation = q;
   p.dims = dims;
   p.apex = apex;
+  p.corner = corner;
   p.normalize();
   return p;
 }
@@ -169,6 +174,10 @@ Primitive3D Primitive3D::prism(double cx, double cy, double cz, double w, double
                                double apex, const Quaternion& rotation) {
   return make(PrimitiveKind3D::TriangularPrism, cx, cy, cz, rotation, {w, h, depth}, apex);
 }
+Primitive3D Primitive3D::rounded_box(double cx, double cy, double cz, double sx, double sy,
+                                     double sz, double corner, const Quaternion& rotation) {
+  return make(PrimitiveKind3D::RoundedBox, cx, cy, cz, rotation, {sx, sy, sz}, 0, corner);
+}
 Primitive3D Primitive3D::nurbs(double cx, double cy, double cz, BSplineSurface surface,
                                const Quaternion& rotation) {
   const XYRectangle& r = surface.rectangle();
@@ -197,6 +206,7 @@ double Primitive3D::volume() const {
     case PrimitiveKind3D::Torus: return 2.0 * kPi * kPi * d[0] * d[1] * d[1];
     case PrimitiveKind3D::TriangularPrism: return 0.5 * d[0] * d[1] * d[2];
     case PrimitiveKind3D::Nurbs: return nurbs::volume(*this);
+    case PrimitiveKind3D::RoundedBox: return rounded_box::volume(*this);
   }
   return 0;
 }
@@ -248,6 +258,7 @@ bool Primitive3D::contains_local(const Vec3& l) const {
       return true;
     }
     case PrimitiveKind3D::Nurbs: return nurbs::contains(*this, l);
+    case PrimitiveKind3D::RoundedBox: return rounded_box::contains(*this, l);
   }
   return false;
 }
@@ -321,6 +332,9 @@ double Primitive3D::signed_distance_local(const Vec3& l) const {
       return extrusion_distance(inside ? -best : best, std::fabs(l[2]) - d[2] / 2);
     }
     case PrimitiveKind3D::Nurbs: return nurbs::signed_distance(*this, l);
+    case PrimitiveKind3D::RoundedBox:
+      return extrusion_distance(rounded_box::section_distance(*this, l[0], l[1]),
+                                std::fabs(l[2]) - d[2] / 2);
   }
   return 0;
 }
@@ -397,6 +411,7 @@ Bounds3 Primitive3D::bounds() const {
             }
       break;
     }
+    case PrimitiveKind3D::RoundedBox: return rounded_box::bounds(*this);
     case PrimitiveKind3D::TriangularPrism: {
       double t[3][2];
       triangle_local(*this, t);
@@ -456,11 +471,16 @@ void Primitive3D::normalize() {
     sides = sides <= 0 ? 0 : std::clamp(sides, 3, kMaxSides);
   else
     sides = 0;
+  // A corner of 0 would be a Box's; NaN (a step gone wrong) falls back the same way.
+  if (kind == PrimitiveKind3D::RoundedBox)
+    corner = std::min(corner > kMinSize ? corner : kMinSize, std::min(dims[0], dims[1]) / 2);
+  else
+    corner = 0;
 }
 
 bool Primitive3D::operator==(const Primitive3D& o) const {
   return kind == o.kind && cx == o.cx && cy == o.cy && cz == o.cz && rotation == o.rotation &&
-         dims == o.dims && apex == o.apex && sides == o.sides &&
+         dims == o.dims && apex == o.apex && sides == o.sides && corner == o.corner &&
          nurbs::same_patch(patch.get(), o.patch.get());
 }
 

@@ -1,5 +1,6 @@
 // Scan conversion of the 3D primitives: per x-row of voxel centres, the analytic interval(s)
-// of the primitive on that line (one for convex kinds, up to two for the torus).
+// of the primitive on that line (one for convex kinds, the rounded box included, up to two for
+// the torus).
 #include <algorithm>
 #include <cmath>
 
@@ -8,6 +9,7 @@
 #include "model/polygonal_solid.h"
 #include "model/prism_triangle.h"
 #include "model/roots.h"
+#include "model/rounded_box.h"
 
 namespace csgfit {
 
@@ -186,6 +188,11 @@ void line_spans(const Primitive3D& p, const Vec3& u, const Vec3& b, Spans& out) 
     case PrimitiveKind3D::Torus:
       torus_spans(d, u, b, out);
       return;
+    case PrimitiveKind3D::RoundedBox: {
+      const Interval iv = rounded_box::line_interval(p, u, b);
+      out.add(iv.lo, iv.hi);
+      return;
+    }
   }
 }
 

@@ -47,7 +47,8 @@ std::vector<int> prism_axes(const Primitive3D& p) {
   switch (p.kind) {
     case PrimitiveKind3D::Box: return {0, 1, 2};
     case PrimitiveKind3D::Cylinder:
-    case PrimitiveKind3D::TriangularPrism: return {2};
+    case PrimitiveKind3D::TriangularPrism:
+    case PrimitiveKind3D::RoundedBox: return {2};
     default: return {};
   }
 }
@@ -141,9 +142,11 @@ SweepSection linear_section(const Primitive3D& p, const Mat3& frame, const Vec3&
   s.x = at[0];
   s.y = at[1];
   const Mat3 m = p.rotation.matrix();
-  if (p.kind == PrimitiveKind3D::Box) {
-    // A rectangle is the same seen from either side and turned half round: its first side is
-    // the box's axis nearest the plane's x, so that an unturned box draws an unturned square.
+  // A rectangle, rounded or not, is the same seen from either side and turned half round.
+  const bool rectangle = p.kind == PrimitiveKind3D::Box || p.kind == PrimitiveKind3D::RoundedBox;
+  if (rectangle) {
+    // Its first side is the box's axis nearest the plane's x, so that an unturned box draws an
+    // unturned square.
     const int a = (axis + 1) % 3, b = (axis + 2) % 3;
     const bool a_first = std::fabs(in_frame(frame, column(m, a))[0]) >=
                          std::fabs(in_frame(frame, column(m, b))[0]);
@@ -154,7 +157,7 @@ SweepSection linear_section(const Primitive3D& p, const Mat3& frame, const Vec3&
   if (p.kind == PrimitiveKind3D::Cylinder && !p.is_polygonal()) return s;  // no angle to see
   const Vec3 u = in_frame(frame, column(m, s.across[0]));
   s.angle = std::atan2(u[1], u[0]) * kRadToDeg;
-  if (p.kind == PrimitiveKind3D::Box) s.angle = reduced(s.angle, 180);
+  if (rectangle) s.angle = reduced(s.angle, 180);
   if (p.is_polygonal()) s.angle = reduced(s.angle, 360.0 / p.sides);
   return s;
 }

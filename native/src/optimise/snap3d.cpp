@@ -172,9 +172,10 @@ std::size_t snap_to_planes(TreeEvaluator3D& ev, const std::vector<AxisPlane>& pl
   std::size_t moved = 0;
   for (std::size_t i = 0; i < ev.leaf_count(); ++i) {
     const PrimitiveKind3D kind = ev.leaf(i).kind;
-    // Local axes with planar end faces: all three for a box, the axis (z) for extrusions.
+    // Local axes with planar end faces: all three for a box or a rounded box (its sides are flat
+    // where they are furthest out), the axis (z) for extrusions.
     int first = 2;
-    if (kind == PrimitiveKind3D::Box) first = 0;
+    if (kind == PrimitiveKind3D::Box || kind == PrimitiveKind3D::RoundedBox) first = 0;
     else if (kind != PrimitiveKind3D::Cylinder && kind != PrimitiveKind3D::Cone &&
              kind != PrimitiveKind3D::TriangularPrism)
       continue;

@@ -36,6 +36,7 @@ Problem3D make_problem3d(const VoxelGrid& target, const FitOptions3D& options,
   for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::TriangularPrism); ++i)
     if (options.primitives.has(static_cast<PrimitiveKind3D>(i)))
       pb.kinds.push_back(static_cast<PrimitiveKind3D>(i));
+  if (options.primitives.has(PrimitiveKind3D::RoundedBox)) pb.kinds.push_back(PrimitiveKind3D::RoundedBox);
   pb.new_leaf_opt = LocalOptOptions::pattern(30, 1.0, 0.25);
   pb.all_leaf_opt = LocalOptOptions::pattern(2, 0.5, 0.25);
   for (PrimitiveKind3D kind :

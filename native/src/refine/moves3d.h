@@ -13,15 +13,15 @@ namespace csgfit {
 
 struct Moves3D {
   // Face0Minus .. Face2Plus: one face of a box moved outwards along its local axis, the
-  // others kept.
-  enum class Param { X, Y, Z, Dim0, Dim1, Dim2, TurnX, TurnY, TurnZ, Apex,
+  // others kept. Corner: a rounded box's corner radius.
+  enum class Param { X, Y, Z, Dim0, Dim1, Dim2, TurnX, TurnY, TurnZ, Apex, Corner,
                      Face0Minus, Face0Plus, Face1Minus, Face1Plus, Face2Minus, Face2Plus };
-  static constexpr int kMaxParams = 12;
+  static constexpr int kMaxParams = 13;
 
   /// Steps are in model units; one voxel is this long.
   double unit = 1.0;
-  /// A box's faces move one at a time instead of its sizes: a face off by a little cannot get
-  /// there by growing (its opposite moves too) or by shifting.
+  /// A box's (and a rounded box's) faces move one at a time instead of its sizes: a face off by
+  /// a little cannot get there by growing (its opposite moves too) or by shifting.
   bool box_faces = false;
 
   // The parameters worth moving for a primitive.
@@ -29,7 +29,8 @@ struct Moves3D {
     const PrimitiveKind3D kind = p.kind;
     int n = 0;
     for (Param position : {Param::X, Param::Y, Param::Z}) out[n++] = position;
-    if (o.move_sizes && box_faces && kind == PrimitiveKind3D::Box) {
+    if (o.move_sizes && box_faces &&
+        (kind == PrimitiveKind3D::Box || kind == PrimitiveKind3D::RoundedBox)) {
       for (int f = 0; f < 6; ++f) out[n++] = static_cast<Param>(static_cast<int>(Param::Face0Minus) + f);
     } else if (o.move_sizes) {
       int dims[3];
@@ -37,6 +38,7 @@ struct Moves3D {
       for (int i = 0; i < nd; ++i)
         out[n++] = static_cast<Param>(static_cast<int>(Param::Dim0) + dims[i]);
     }
+    if (o.move_sizes && has_free_corner(kind)) out[n++] = Param::Corner;
     if (o.move_orientation && kind != PrimitiveKind3D::Sphere) {
       out[n++] = Param::TurnX;
       out[n++] = Param::TurnY;
@@ -53,6 +55,7 @@ struct Moves3D {
     const Vec3& d = p.dims;
     switch (p.kind) {
       case PrimitiveKind3D::Box:
+      case PrimitiveKind3D::RoundedBox:
       case PrimitiveKind3D::TriangularPrism:
         return 0.5 * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       case PrimitiveKind3D::Torus:
@@ -80,7 +83,8 @@ struct Moves3D {
         // Radii move by half the step so that the surface moves by about `step` either way,
         // as full box sizes do on their two opposite faces.
         const bool radius =
-            !(p.kind == PrimitiveKind3D::Box || p.kind == PrimitiveKind3D::TriangularPrism ||
+            !(p.kind == PrimitiveKind3D::Box || p.kind == PrimitiveKind3D::RoundedBox ||
+              p.kind == PrimitiveKind3D::TriangularPrism ||
               ((p.kind == PrimitiveKind3D::Cylinder || p.kind == PrimitiveKind3D::Cone) && i == 2));
         p.dims[i] += radius ? step / 2 : step;
         break;
@@ -98,6 +102,11 @@ struct Moves3D {
       }
       case Param::Apex:
         p.apex += step / std::max(0.5 * p.dims[0], voxel);
+        break;
+      case Param::Corner:
+        // The arc's middle moves by (sqrt 2 - 1) of the radius's step: twice the step moves
+        // the surface by about the step, as the other parameters do.
+        p.corner += 2 * step;
         break;
       default:
         move_face(p, static_cast<int>(param) - static_cast<int>(Param::Face0Minus), step);

@@ -15,7 +15,8 @@ constexpr double kRadToDeg = 180.0 / kPi;
 // extent, not a radius).
 bool is_extruded(PrimitiveKind3D k) {
   return k == PrimitiveKind3D::Box || k == PrimitiveKind3D::Cylinder ||
-         k == PrimitiveKind3D::Cone || k == PrimitiveKind3D::TriangularPrism;
+         k == PrimitiveKind3D::Cone || k == PrimitiveKind3D::TriangularPrism ||
+         k == PrimitiveKind3D::RoundedBox;
 }
 
 void signed_leaves(Node3D& n, bool negative, std::vector<std::pair<Primitive3D*, bool>>& out) {
@@ -30,7 +31,7 @@ void signed_leaves(Node3D& n, bool negative, std::vector<std::pair<Primitive3D*,
 std::vector<PrimitiveKind3D> allowed_kinds(const PrimitiveSet3D& set) {
   const PrimitiveSet3D analytic = analytic_kinds(set);
   std::vector<PrimitiveKind3D> out;
-  for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::Nurbs); ++i)
+  for (int i = 0; i <= static_cast<int>(PrimitiveKind3D::RoundedBox); ++i)
     if (analytic.has(static_cast<PrimitiveKind3D>(i))) out.push_back(static_cast<PrimitiveKind3D>(i));
   if (out.empty()) out.push_back(PrimitiveKind3D::Box);
   return out;
@@ -47,6 +48,9 @@ Primitive3D make_terminal(PrimitiveKind3D kind, const Vec3& c, const Vec3& he, c
     case PrimitiveKind3D::Torus: return Primitive3D::torus(c[0], c[1], c[2], r, std::min(he[2], r), q);
     case PrimitiveKind3D::TriangularPrism:
       return Primitive3D::prism(c[0], c[1], c[2], 2 * he[0], 2 * he[1], 2 * he[2], 0, q);
+    case PrimitiveKind3D::RoundedBox:
+      return Primitive3D::rounded_box(c[0], c[1], c[2], 2 * he[0], 2 * he[1], 2 * he[2],
+                                      std::min(he[0], he[1]) / 2, q);
     default: return Primitive3D::box(c[0], c[1], c[2], 2 * he[0], 2 * he[1], 2 * he[2], q);
   }
 }
@@ -134,6 +138,7 @@ std::vector<double> pack(const Primitive3D& p, double D) {
   const int n = free_dims(p.kind, idx);
   for (int i = 0; i < n; ++i) x.push_back(p.dims[idx[i]] / D);
   if (p.kind == PrimitiveKind3D::TriangularPrism) x.push_back(p.apex);
+  if (has_free_corner(p.kind)) x.push_back(p.corner / D);
   return x;
 }
 
@@ -143,6 +148,7 @@ void unpack(Primitive3D& p, const std::vector<double>& x, double D) {
   const int n = free_dims(p.kind, idx);
   for (int i = 0; i < n; ++i) p.dims[idx[i]] = std::fabs(x[3 + i]) * D;
   if (p.kind == PrimitiveKind3D::TriangularPrism) p.apex = x[3 + n];
+  if (has_free_corner(p.kind)) p.corner = x[3 + n] * D;
   p.normalize();
 }
 

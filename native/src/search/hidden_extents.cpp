@@ -31,6 +31,7 @@ void bounding_planes(const Primitive3D& p, const Vec3& n, std::vector<double>& o
   const auto both = [&](double half) { out.push_back(at - half), out.push_back(at + half); };
   switch (p.kind) {
     case PrimitiveKind3D::Box:
+    case PrimitiveKind3D::RoundedBox:  // its sides are flat where they are furthest out
       for (int a = 0; a < 3; ++a)
         if (std::abs(dot(column(r, a), n)) > kParallel) both(p.dims[a] / 2);
       break;

@@ -24,6 +24,7 @@ Vec3 half_extents(const Primitive3D& p) {
   switch (p.kind) {
     case PrimitiveKind3D::Box:
     case PrimitiveKind3D::Nurbs:
+    case PrimitiveKind3D::RoundedBox:
     case PrimitiveKind3D::TriangularPrism: return {d[0] / 2, d[1] / 2, d[2] / 2};
     case PrimitiveKind3D::Cylinder: return {d[0], d[0], d[2] / 2};
     case PrimitiveKind3D::Cone: {
@@ -60,6 +61,11 @@ Primitive3D with_kind(const Primitive3D& p, PrimitiveKind3D kind, const Vec3& he
     }
     case PrimitiveKind3D::TriangularPrism:
       out = Primitive3D::prism(cx, cy, cz, 2 * he[0], 2 * he[1], 2 * he[2], 0, q);
+      break;
+    case PrimitiveKind3D::RoundedBox:
+      // Halfway between the box and the stadium; the local optimiser moves it from there.
+      out = Primitive3D::rounded_box(cx, cy, cz, 2 * he[0], 2 * he[1], 2 * he[2],
+                                     std::min(he[0], he[1]) / 2, q);
       break;
   }
   out.normalize();

@@ -102,6 +102,13 @@ CurvatureType primitive_curvature(const Primitive3D& p, const Vec3& world) {
     }
     case PrimitiveKind3D::Torus:
       return std::hypot(l[0], l[1]) >= d[0] ? CurvatureType::Convex : CurvatureType::Other;
+    case PrimitiveKind3D::RoundedBox: {
+      // Convex on the corner arcs (beyond the core in both x and y), unless a cap is nearer.
+      const bool arc = std::fabs(l[0]) > d[0] / 2 - p.corner && std::fabs(l[1]) > d[1] / 2 - p.corner;
+      const double side = std::fabs(p.signed_distance(world[0], world[1], world[2]));
+      return arc && std::fabs(std::fabs(l[2]) - d[2] / 2) > side + 1e-9 ? CurvatureType::Convex
+                                                                       : CurvatureType::Flat;
+    }
     case PrimitiveKind3D::Nurbs: {
       if (l[2] < 0.5 * std::max(d[2], 1e-12) * 1e-3 || std::fabs(l[0]) >= d[0] / 2 ||
           std::fabs(l[1]) >= d[1] / 2)

@@ -16,8 +16,8 @@ struct Move {
   double side = 0;
 };
 
-// A face of a box or prism moved alone by t along its local axis `a` (side s): the size grows
-// by t and the centre follows by half of it.
+// A face of a box, rounded box or prism moved alone by t along its local axis `a` (side s): the
+// size grows by t and the centre follows by half of it.
 Move face(int a, double s) {
   return {[a, s](Primitive3D& p, double t) {
             const Mat3 m = p.rotation.matrix();
@@ -62,9 +62,11 @@ PointTarget near_target(const Primitive3D& p, const Move& move, const PointTarge
 std::vector<Move> moves_of(const Primitive3D& p) {
   std::vector<Move> out;
   if (p.kind == PrimitiveKind3D::Nurbs) return out;  // its net has its own least squares
-  if (p.kind == PrimitiveKind3D::Box || p.kind == PrimitiveKind3D::TriangularPrism) {
+  if (p.kind == PrimitiveKind3D::Box || p.kind == PrimitiveKind3D::RoundedBox ||
+      p.kind == PrimitiveKind3D::TriangularPrism) {
     for (int a = 0; a < 3; ++a)
       for (double s : {1.0, -1.0}) out.push_back(face(a, s));
+    if (has_free_corner(p.kind)) out.push_back({[](Primitive3D& q, double t) { q.corner += t; }});
     return out;
   }
   out.push_back({[](Primitive3D& q, double t) { q.cx += t; }});

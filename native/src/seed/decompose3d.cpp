@@ -60,8 +60,9 @@ int simplicity(PrimitiveKind3D k) {
     case PrimitiveKind3D::TriangularPrism: return 5;
     case PrimitiveKind3D::Torus: return 6;
     case PrimitiveKind3D::Nurbs: return 7;
+    case PrimitiveKind3D::RoundedBox: return 8;  // never matched: moments miss its corner
   }
-  return 8;
+  return 9;
 }
 
 }  // namespace

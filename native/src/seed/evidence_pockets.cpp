@@ -55,6 +55,7 @@ Vec3 local_half_extent(const Primitive3D& p) {
   const Vec3& d = p.dims;
   switch (p.kind) {
     case PrimitiveKind3D::Box:
+    case PrimitiveKind3D::RoundedBox:
     case PrimitiveKind3D::TriangularPrism: return {d[0] / 2, d[1] / 2, d[2] / 2};
     case PrimitiveKind3D::Cylinder: return {d[0], d[0], d[2] / 2};
     case PrimitiveKind3D::Cone: return {std::max(d[0], d[1]), std::max(d[0], d[1]), d[2] / 2};

@@ -121,7 +121,7 @@ std::string describe(std::size_t number, const SignedPrimitive& node) {
   for (char& c : kind) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   add("Primitive %zu : %s --- %s object%s\n", number, kind.c_str(), node.positive ? "POSITIVE" : "NEGATIVE",
       node.conjectured ? " (a cut through a seen face's plane)" : "");
-  if (p.kind == PrimitiveKind3D::Box) {
+  if (p.kind == PrimitiveKind3D::Box || p.kind == PrimitiveKind3D::RoundedBox) {
     for (int a = 0; a < 3; ++a)
       add("  %c-axis: (%.6f, %.6f, %.6f)  length: %.6f\n", "XYZ"[a], r[0][a], r[1][a], r[2][a], p.dims[a]);
   } else if (p.kind != PrimitiveKind3D::Sphere) {
@@ -134,6 +134,7 @@ std::string describe(std::size_t number, const SignedPrimitive& node) {
       add("  radii: %.6f, %.6f  altitude: %.6f\n", p.dims[0], p.dims[1], p.dims[2]);
       break;
     case PrimitiveKind3D::Torus: add("  radii: %.6f, %.6f\n", p.dims[0], p.dims[1]); break;
+    case PrimitiveKind3D::RoundedBox: add("  corner radius: %.6f\n", p.corner); break;
     default: break;
   }
   add("  reference point: (%.6f, %.6f, %.6f)\n", p.cx, p.cy, p.cz);

@@ -1,5 +1,6 @@
-// 3D primitives: box, sphere, cylinder, cone (frustum), ellipsoid, torus, triangular prism and
-// seed 004's NURBS terminal; their scan conversion at voxel centres, volumes and signed distances.
+// 3D primitives: box, sphere, cylinder, cone (frustum), ellipsoid, torus, triangular prism,
+// seed 004's NURBS terminal and the rounded box; their scan conversion at voxel centres, volumes
+// and signed distances.
 #pragma once
 
 #include <array>
@@ -14,14 +15,17 @@
 
 namespace csgfit {
 
-enum class PrimitiveKind3D { Box, Sphere, Cylinder, Cone, Ellipsoid, Torus, TriangularPrism, Nurbs };
+// RoundedBox comes last so that the older kinds keep their values (and the searches that
+// enumerate kinds in this order draw what they drew before it existed).
+enum class PrimitiveKind3D {
+  Box, Sphere, Cylinder, Cone, Ellipsoid, Torus, TriangularPrism, Nurbs, RoundedBox
+};
 
 /// Canonical lower-case name ("box", "sphere", "cylinder", "cone", "ellipsoid", "torus",
-/// "prism", "nurbs").
+/// "prism", "nurbs", "rounded_box").
 std::string_view to_string(PrimitiveKind3D kind);
 /// Parses a name as written by to_string (also "cube", "frustum", "wedge", "triangular_prism",
-/// "bspline");
-/// throws std::invalid_argument naming the bad name.
+/// "bspline", "rounded-box", "roundedbox"); throws std::invalid_argument naming the bad name.
 PrimitiveKind3D primitive_kind3d_from_string(std::string_view name);
 
 
@@ -62,12 +66,20 @@ bool clip_ray(const Bounds3& box, const Vec3& o, const Vec3& d, double& t0, doub
 ///               (the local plane z = 0 is its floor, the patch its top face); dims = {sx, sy,
 ///               top}, top the highest control height (the convex hull bounds S by it).
 ///               Signed distances are the vertical gap scaled by the slope (first order).
+///  - RoundedBox: dims = {sx, sy, sz} as a Box's, its four edges along local z rounded with
+///               radius `corner` (0 < corner <= min(sx, sy) / 2; at the bound the section is a
+///               stadium, or a circle when sx = sy): the rounded rectangle, i.e. the rectangle
+///               of (sx - 2 corner) x (sy - 2 corner) grown by `corner`, extruded over
+///               z in [-sz/2, sz/2]. OpenSCAD's linear_extrude() offset(r = corner) square().
 struct Primitive3D {
   PrimitiveKind3D kind = PrimitiveKind3D::Box;
   double cx = 0, cy = 0, cz = 0;
   Quaternion rotation;
   Vec3 dims{1, 1, 1};
   double apex = 0;  ///< TriangularPrism only
+  /// RoundedBox only: the radius of its four edges along local z; normalize() keeps it in
+  /// (0, min(sx, sy) / 2] and sets 0 for other kinds.
+  double corner = 0;
   /// Cylinder and Cone only: 0 for the round solid, else the number of sides of the regular
   /// polygon that is its cross-section (3 .. kMaxSides); normalize() sets 0 for other kinds.
   int sides = 0;
@@ -89,6 +101,8 @@ struct Primitive3D {
                            const Quaternion& rotation = {});
   static Primitive3D prism(double cx, double cy, double cz, double w, double h, double depth,
                            double apex = 0, const Quaternion& rotation = {});
+  static Primitive3D rounded_box(double cx, double cy, double cz, double sx, double sy, double sz,
+                                 double corner, const Quaternion& rotation = {});
   /// A NURBS terminal whose floor centre is (cx, cy, cz); `surface` is a height field over a
   /// rectangle centred on the local origin (BSplineSurface::height_field with x0 = -x1,
   /// y0 = -y1). Throws std::invalid_argument for any other surface.
@@ -108,7 +122,7 @@ struct Primitive3D {
   /// pyramid frustum), where it is the largest signed distance to the planes of its faces:
   /// exact inside and wherever the nearest point is inside a face, an underestimate where it is
   /// an edge or a corner (a polygonal Cylinder is exact: the polygon's 2D distance combined
-  /// with the z slab as an extrusion's).
+  /// with the z slab as an extrusion's, and so is the RoundedBox with the rounded rectangle's).
   double signed_distance(double x, double y, double z) const;
   /// signed_distance at each of `n` points, into `out` (the rotation applied once).
   void signed_distances(const Vec3* points, std::size_t n, double* out) const;
@@ -127,8 +141,8 @@ struct Primitive3D {
     return sides > 0 && (kind == PrimitiveKind3D::Cylinder || kind == PrimitiveKind3D::Cone);
   }
   /// Keeps sizes positive, tied sizes equal, r <= R for tori, the quaternion unit, sides 0 or
-  /// in [3, kMaxSides] for Cylinder and Cone and 0 for the other kinds; called after every
-  /// parameter change.
+  /// in [3, kMaxSides] for Cylinder and Cone and 0 for the other kinds, a RoundedBox's corner
+  /// in (0, min(sx, sy) / 2] (0 for the other kinds); called after every parameter change.
   void normalize();
   bool operator==(const Primitive3D& o) const;
   bool operator!=(const Primitive3D& o) const { return !(*this == o); }
@@ -137,9 +151,12 @@ struct Primitive3D {
 /// Which 3D primitive kinds the matcher and the search may use.
 struct PrimitiveSet3D {
   unsigned bits = 0;
-  /// Every analytic kind (all but the NURBS terminal, which only `csgfit points` fits).
+  /// What "all" names: every analytic kind but the rounded box (and not the NURBS terminal,
+  /// which only `csgfit points` fits). The rounded box is named on its own: the searches draw
+  /// from this set, and a fit asked for "all" stays the fit it was before the rounded box.
   static PrimitiveSet3D all();
-  /// The kinds seed 003 matches by moments: box, sphere, cylinder, cone, ellipsoid, prism.
+  /// The kinds seed 003 matches by moments: box, sphere, cylinder, cone, ellipsoid, prism (not
+  /// the torus, nor the rounded box: moments do not tell its corner from its sizes).
   static PrimitiveSet3D matchable();
   /// Comma-separated names as primitive_kind3d_from_string takes them, or "all"; throws
   /// std::invalid_argument naming a bad name or an empty list.
@@ -153,8 +170,11 @@ struct PrimitiveSet3D {
 PrimitiveSet3D analytic_kinds(PrimitiveSet3D set);
 
 /// Indices into Primitive3D::dims that are free parameters of the kind (a sphere has one, a
-/// cylinder two: {0, 2}, a torus two: {0, 1}); returns how many were written.
+/// cylinder two: {0, 2}, a torus two: {0, 1}); returns how many were written. A RoundedBox has
+/// its three sizes and `corner` besides (has_free_corner).
 int free_dims(PrimitiveKind3D kind, int out[3]);
+/// Whether the kind has a free `corner` radius besides its free dims (the RoundedBox).
+inline bool has_free_corner(PrimitiveKind3D kind) { return kind == PrimitiveKind3D::RoundedBox; }
 /// Whether turning a primitive of this kind about its local z axis leaves it unchanged when it
 /// is round (cylinder, cone, torus, sphere).
 bool is_axially_symmetric(PrimitiveKind3D kind);
@@ -165,7 +185,8 @@ bool is_axially_symmetric(const Primitive3D& p);
 /// Scan-converts p into `out`: a voxel is set exactly when its centre lies inside p. Clears
 /// `out` first. Works per x-row (j, k) inside p's bounds, from the analytic x-interval(s) of
 /// p on that line (one for convex kinds, up to two for the torus; a polygonal Cylinder or Cone
-/// is the intersection of the half-spaces of its faces).
+/// is the intersection of the half-spaces of its faces, a RoundedBox the hull of its two
+/// crossed slabs and four corner discs).
 void rasterize(const Primitive3D& p, VoxelGrid& out);
 /// Where the line o + t d (d of unit length) lies inside p: up to four sorted, disjoint
 /// t-intervals [lo[i], hi[i]], solved exactly for the analytic kinds (as rasterize does a row)

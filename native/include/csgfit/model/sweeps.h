@@ -21,6 +21,8 @@ enum class SweepKind { Linear, Revolution };
 ///  - Box: the rectangle of sides dims[across[0]] and dims[across[1]] centred on (x, y), its
 ///    first side (along the box's local axis across[0], of its two the one nearer the plane's
 ///    x axis) turned by `angle` from the plane's x axis, in (-90, 90].
+///  - RoundedBox: as a Box's, across its local x and y (across is {0, 1} or {1, 0}), each
+///    corner rounded with radius `corner` (OpenSCAD's offset(r = corner) square()).
 ///  - Cylinder: the circle of radius dims[0] centred on (x, y); a polygonal one's regular
 ///    polygon has its vertex 0 at `angle`.
 ///  - TriangularPrism: its triangle (w, h, apex, as the 2D Triangle) centred on (x, y), turned
@@ -62,11 +64,11 @@ struct Sweep {
 /// and nothing inside it. Lengths agree within 1e-6 of the tree's size, directions within
 /// 1e-6 radians.
 ///  - Linear: every leaf is a prism along one direction (a box along any of its local axes, a
-///    round or polygonal cylinder or a triangular prism along its local z), and every leaf
-///    spans the subtree's extent along it, found as union = hull, intersection = overlap,
-///    difference = the first child's. So a subtracted or intersected leaf may reach beyond the
-///    others, as a through-hole does: only its part inside the extent counts. Among several
-///    such directions (a tree of boxes), the one of the smallest height.
+///    round or polygonal cylinder, a triangular prism or a rounded box along its local z), and
+///    every leaf spans the subtree's extent along it, found as union = hull, intersection =
+///    overlap, difference = the first child's. So a subtracted or intersected leaf may reach
+///    beyond the others, as a through-hole does: only its part inside the extent counts. Among
+///    several such directions (a tree of boxes), the one of the smallest height.
 ///  - Revolution: every leaf is round about one line: round cylinders, cones and tori on it,
 ///    spheres centred on it, at least one leaf not a sphere.
 std::vector<Sweep> find_sweeps(const Node3D& tree);

@@ -1,4 +1,5 @@
 // JSON form of a 3D fit ("dimension": 3); see to_json3d in csgfit/io/json.h.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -60,6 +61,10 @@ ojson node3d_to_json(const Node3D& n, const std::string& where) {
       j["w"] = d[0], j["h"] = d[1], j["depth"] = d[2], j["apex"] = finite(p.apex, where);
       break;
     case PrimitiveKind3D::Nurbs: json_detail::write_nurbs_fields(p, where, j); break;
+    case PrimitiveKind3D::RoundedBox:
+      j["size"] = {d[0], d[1], d[2]};
+      j["corner"] = finite(p.corner, where);
+      break;
   }
   if (p.is_polygonal()) j["sides"] = p.sides;
   return j;
@@ -81,6 +86,16 @@ int sides(const ojson& j, const Primitive3D& p, const std::string& where) {
       it->get<long long>() > Primitive3D::kMaxSides)
     fail(where, "'sides' must be an integer from 3 to " + std::to_string(Primitive3D::kMaxSides));
   return it->get<int>();
+}
+
+// A rounded box's "corner": a number in (0, min(sx, sy) / 2], the bound by a hair of rounding
+// (a stadium written in decimal).
+double corner(const ojson& j, const Primitive3D& p, const std::string& where) {
+  const double c = number(j, "corner", where);
+  const double most = std::min(p.dims[0], p.dims[1]) / 2;
+  if (!(c > 0) || c > most * (1 + 1e-12))
+    fail(where, "'corner' must be > 0 and at most half the smaller of size x and size y");
+  return std::min(c, most);
 }
 
 template <std::size_t N>
@@ -159,11 +174,20 @@ Node3D node3d_from_json(const ojson& j, const std::string& where, int depth) {
       p.apex = j.contains("apex") ? number(j, "apex", where) : 0;
       break;
     case PrimitiveKind3D::Nurbs: json_detail::read_nurbs_fields(j, where, p); break;
+    case PrimitiveKind3D::RoundedBox: {
+      const auto d = numbers<3>(j, "size", where);
+      p.dims = {d[0], d[1], d[2]};
+      break;
+    }
   }
   p.sides = sides(j, p, where);
   for (double v : p.dims)
     if (v < 0 || (v == 0 && !(p.kind == PrimitiveKind3D::Cone || p.kind == PrimitiveKind3D::Torus)))
       fail(where, std::string(to_string(p.kind)) + " sizes must be > 0");
+  if (p.kind == PrimitiveKind3D::RoundedBox)
+    p.corner = corner(j, p, where);
+  else if (j.contains("corner"))
+    fail(where, "'corner' is for rounded boxes only");
   // Refused rather than repaired: a quaternion of length 0 has no rotation to mean.
   const double len = std::sqrt(p.rotation.w * p.rotation.w + p.rotation.x * p.rotation.x +
                                p.rotation.y * p.rotation.y + p.rotation.z * p.rotation.z);

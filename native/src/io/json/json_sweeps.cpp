@@ -24,10 +24,15 @@ ojson linear_section(const SweepSection& s) {
   ojson j{{"leaf", s.leaf_index}};
   switch (p.kind) {
     case PrimitiveKind3D::Box:
-      j["type"] = "rectangle";
+    case PrimitiveKind3D::RoundedBox: {
+      // A rounded box's section is the box's rectangle with its corners rounded.
+      const bool rounded = p.kind == PrimitiveKind3D::RoundedBox;
+      j["type"] = rounded ? "rounded_rectangle" : "rectangle";
       j["cx"] = finite(s.x), j["cy"] = finite(s.y);
       j["w"] = d[s.across[0]], j["h"] = d[s.across[1]], j["angle"] = finite(s.angle);
+      if (rounded) j["r"] = p.corner;
       break;
+    }
     case PrimitiveKind3D::Cylinder:
       j["type"] = "circle";
       j["cx"] = finite(s.x), j["cy"] = finite(s.y), j["r"] = d[0];
