@@ -151,6 +151,22 @@ TEST_F(Construction3D, ANoisyMeshStillGivesAValidTree) {
   EXPECT_GT(iou_against(mesh, fit.fit.tree), 0.9);
 }
 
+// With rounded boxes named, a rounded plate is one rounded box read off its four corner arcs,
+// not a box with four cylinders at its corners and four planes cutting them.
+TEST_F(Construction3D, ARoundedPlateIsOneRoundedBoxWhenRoundedBoxesAreNamed) {
+  const TriangleMesh mesh = openscad_mesh(
+      "difference() { linear_extrude(4) offset(r = 3, $fn = 32) square([34, 20]);"
+      " translate([10, 10, -1]) cylinder(r = 2.5, h = 6, $fn = 32); }");
+  ConstructionOptions o;
+  o.kinds.add(PrimitiveKind3D::RoundedBox);
+  const Construction c = construct_from_surfaces(segment_mesh_surfaces(mesh), o);
+  expect_whole(mesh, c, 2);
+  EXPECT_EQ(count_leaves(c.tree, [](const Primitive3D& p) { return p.kind == PrimitiveKind3D::RoundedBox; }), 1);
+  const Construction plain = built(mesh);
+  expect_whole(mesh, plain, 8);
+  EXPECT_GT(plain.tree.primitive_count(), 2u);
+}
+
 // The mesh fit takes the constructed tree when it explains the mesh, without a search.
 TEST_F(Construction3D, TheMeshFitIsTheConstructionWhenItExplainsTheMesh) {
   const TriangleMesh mesh = openscad_mesh(

@@ -170,10 +170,10 @@ bool grow_step(const Growth& g, std::size_t seed, Candidate& c, Column& rest, st
   if (g.holes && std::isfinite(g.prices.hole))
     for (std::size_t h = 0; h < g.holes->size(); ++h) {
       if (std::find(c.excused.begin(), c.excused.end(), static_cast<int>(h)) != c.excused.end()) continue;
-      double removed = 0;
-      for (const auto& [w, bits] : (*g.holes)[h].words) removed += g.weigh.count(rest[w] & bits, w);
-      const double score = removed / ((*g.holes)[h].cost * g.prices.hole + eps);
-      if (removed > 0 && score > best) best = score, pick_literal = -1, pick_hole = static_cast<int>(h);
+      double excused = 0;
+      for (const auto& [w, bits] : (*g.holes)[h].words) excused += g.weigh.count(rest[w] & bits, w);
+      const double score = excused / ((*g.holes)[h].cost * g.prices.hole + eps);
+      if (excused > 0 && score > best) best = score, pick_literal = -1, pick_hole = static_cast<int>(h);
     }
   if (pick_literal >= 0) {
     const Term t{pick_literal, bit(g.cells.columns[static_cast<std::size_t>(pick_literal)], seed)};

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "model/linalg.h"
+#include "rounded_rectangles.h"
 #include "tuning.h"
 
 namespace csgfit::construct {
@@ -125,7 +126,7 @@ bool same(const Literal& a, const Literal& b, double tol) {
     return std::abs(std::abs(d) - 1) < 1e-9 && std::abs(a.offset - (d > 0 ? b.offset : -b.offset)) <= tol;
   }
   const Primitive3D &p = a.solid, &q = b.solid;
-  if (p.kind != q.kind || p.sides != q.sides ||
+  if (p.kind != q.kind || p.sides != q.sides || std::abs(p.corner - q.corner) > tol ||
       norm(sub({p.cx, p.cy, p.cz}, {q.cx, q.cy, q.cz})) > tol)
     return false;
   for (int k = 0; k < 3; ++k)
@@ -172,6 +173,8 @@ std::vector<Literal> literals_of(const MeshSurfaces& surfaces, const Bounds3& do
       case SurfaceKind::Torus: add_round(s, dom, all); break;
     }
   }
+  if (kinds.has(PrimitiveKind3D::RoundedBox))
+    for (Literal& l : rounded_rectangles(surfaces, domain)) all.push_back(std::move(l));
   // A face's literal wins over a separating twin (it says the face is there).
   std::stable_sort(all.begin(), all.end(), [](const Literal& a, const Literal& b) { return !a.separating && b.separating; });
   std::vector<Literal> out;

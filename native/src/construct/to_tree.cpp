@@ -130,8 +130,10 @@ Primitive3D cut_along_axis(Primitive3D p, double t0, double t1) {
   return p;
 }
 
+// Primitives along their local z whose ends the planes across it may be: a cylinder's caps, a
+// rounded box's top and bottom.
 bool has_axis(const Primitive3D& p) {
-  return p.kind == PrimitiveKind3D::Cylinder || p.kind == PrimitiveKind3D::Cone;
+  return p.kind == PrimitiveKind3D::Cylinder || p.kind == PrimitiveKind3D::Cone || p.kind == PrimitiveKind3D::RoundedBox;
 }
 
 // Cuts an axial primitive to `bounds` and to the frames' intervals along its axis, which become

@@ -8,6 +8,13 @@ namespace csgfit::construct {
 /// A cylinder whose faces go this far about its axis (degrees) is whole: no plane through its
 /// axis separates anything of it (a hole or a boss); less, and it is an arc beside a block.
 constexpr double kWholeSweep = 330;
+/// Arcs that may be a rounded outline's corners: from this sweep (degrees; a quarter is 90)...
+constexpr double kLeastCornerSweep = 60;
+/// ...and past this one a slot's half circle.
+constexpr double kHalfSweep = 150;
+/// An arc is the corner its place in the outline asks for when its middle faces within about
+/// 25 degrees of that corner's outward direction (this cosine).
+constexpr double kCornerFacing = 0.9;
 /// Price of a plane term in a product, in primitives: five planes make a box.
 constexpr double kPlaneCost = 0.2;
 /// A separating plane (through an axis, a centre) makes a part of a primitive: dearer.
