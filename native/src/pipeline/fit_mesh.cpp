@@ -29,6 +29,10 @@ using Clock = std::chrono::steady_clock;
 // The construction from the mesh's faces may take this share of --time; it is deterministic
 // and takes seconds at most, the rest is the search's when it is needed.
 constexpr double kConstructShare = 0.5;
+// A built tree that does not explain the mesh is the search's first tree only up to this many
+// primitives: the search's pruning tries each leaf against the whole tree, and a tree of
+// hundreds (a part whose faces were read wrongly) took three times --time on that alone.
+constexpr std::size_t kMostBuiltPrimitivesToSearch = 64;
 
 // The mesh in the fitting frame (frame = R^T mesh) and its bounding box there.
 struct FramedMesh {
@@ -344,7 +348,8 @@ MeshFitResult fit_mesh(const TriangleMesh& mesh, const MeshReport& report,
       return out;
     }
     // What the faces did not explain is the search's to finish, from the built tree.
-    if (built.built) search.surface.trees.push_back(std::move(built.fit.tree));
+    if (built.built && built.fit.tree.primitive_count() <= kMostBuiltPrimitivesToSearch)
+      search.surface.trees.push_back(std::move(built.fit.tree));
   }
   if (mesh_options.surface_seeds) {
     SurfaceSeeds read = surface_seeds(local.mesh, coarse, options, cancel);
