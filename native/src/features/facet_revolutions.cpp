@@ -38,6 +38,9 @@ constexpr double kSweptDegrees = 20;
 // normals of a surface that only looks swept about an axis (two crossed cylinders seen about
 // the axis across both) do not.
 constexpr double kNormalSlack = 2;
+// A profile arc's radius is at most this many times its chord: a dome of radius 100 over a
+// chord of 20 is 5; past this it is a near-straight run with a kink, better read as lines.
+constexpr double kMostArcRadiusPerChord = 50;
 // Fewest profile points an arc is read from: three always lie on some circle.
 constexpr std::size_t kArcPoints = 4;
 
@@ -267,6 +270,10 @@ bool arc_fits(const Profile& p, const std::vector<int>& w, std::size_t i, std::s
   // Only a circle about the axis (a ball) or off it by more than its radius (a torus) is swept
   // by a primitive; a wider one through a few near-straight points is a line and a kink.
   if (std::abs(c.centre[0]) > 2 * tol && c.radius >= c.centre[0]) return false;
+  // A nearly straight run bent by a kink fits a huge circle too (CAD model 039: a torus of radii
+  // 14511 and 14510 in a part 10 wide, which no $fn polygon of it renders): lines, not an arc.
+  const double chord = std::hypot(pts.back()[0] - pts.front()[0], pts.back()[1] - pts.front()[1]);
+  if (c.radius > kMostArcRadiusPerChord * chord) return false;
   piece = {true, 0, 0, 0, 0, c.centre[0], c.centre[1], c.radius};
   return true;
 }
