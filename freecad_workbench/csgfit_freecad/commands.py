@@ -5,7 +5,7 @@ import os
 
 import FreeCAD as App
 import FreeCADGui as Gui
-from PySide2 import QtWidgets
+from .qt import QtWidgets
 
 from . import builder, icon, import_csgfit
 

@@ -11,7 +11,7 @@ import time
 
 import FreeCAD as App
 import FreeCADGui as Gui
-from PySide2 import QtCore, QtGui, QtWidgets
+from .qt import QtCore, QtGui, QtWidgets
 
 from . import icon, import_csgfit
 from .fit_job import FitJob

@@ -3,7 +3,7 @@ settings, the fit's preview and a choice among the best tree and its alternative
 
 import os
 
-from PySide2 import QtWidgets
+from .qt import QtWidgets
 
 from . import builder
 from .fit_panel import FitPanel

@@ -6,7 +6,7 @@ import os
 
 import FreeCAD as App
 import FreeCADGui as Gui
-from PySide2 import QtCore, QtWidgets
+from .qt import QtCore, QtWidgets
 
 from . import builder
 from .fit_panel import FitPanel, view_all

@@ -4,7 +4,7 @@ parameter sheet's `morph` cell moves it from shape A (0) to shape B (1)."""
 
 import os
 
-from PySide2 import QtWidgets
+from .qt import QtWidgets
 
 from . import morph_builder
 from .fit_panel import FitPanel

@@ -7,7 +7,7 @@ import json
 import os
 import tempfile
 
-from PySide2 import QtCore, QtGui, QtWidgets
+from .qt import QtCore, QtGui, QtWidgets
 
 from . import builder
 from .fit_panel import PREVIEW_SIZE, FitPanel

@@ -13,7 +13,7 @@ import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
-from PySide2 import QtCore, QtWidgets
+from csgfit_freecad.qt import QtCore, QtWidgets
 
 report = {"ok": False, "steps": []}
 REPORT = os.environ["CSGFIT_GUI_REPORT"]
@@ -57,7 +57,7 @@ def cancel_a_long_fit(panel, after):
 def shot(name):
     """Screenshot of the main window. QWidget.grab() leaves the OpenGL 3D view blank under
     Xvfb, so the view is rendered off-screen by Coin and painted into its place."""
-    from PySide2 import QtGui
+    from csgfit_freecad.qt import QtGui
 
     mw = Gui.getMainWindow()
     path = os.path.join(SHOTS, name)
