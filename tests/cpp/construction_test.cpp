@@ -56,6 +56,15 @@ class Construction3D : public ::testing::Test {
   void SetUp() override {
     if (!have_openscad()) GTEST_SKIP() << "openscad is not installed";
   }
+  // The mesh fit at --time 30, which must end by construction with `primitives`.
+  static MeshFitResult fitted_by_construction(const TriangleMesh& mesh, std::size_t primitives) {
+    FitOptions3D o;
+    o.time_limit = 30;
+    MeshFitResult fit = fit_mesh(mesh, o);
+    EXPECT_EQ(fit.fit.stats.stop_reason, "constructed");
+    EXPECT_EQ(fit.fit.tree.primitive_count(), primitives);
+    return fit;
+  }
   Construction built(const TriangleMesh& mesh, std::uint64_t seed = 1) {
     ConstructionOptions o;
     o.seed = seed;
@@ -172,11 +181,7 @@ TEST_F(Construction3D, TheMeshFitIsTheConstructionWhenItExplainsTheMesh) {
   const TriangleMesh mesh = openscad_mesh(
       "difference() { cube([40, 30, 8]); for (x = [6, 34]) translate([x, 15, -1]) cylinder(r = 2.5, h = 10, $fn = 32);"
       " translate([20, 15, 4]) cube([20, 4, 10], center = true); }");
-  FitOptions3D o;
-  o.time_limit = 30;
-  const MeshFitResult fit = fit_mesh(mesh, o);
-  EXPECT_EQ(fit.fit.stats.stop_reason, "constructed");
-  EXPECT_EQ(fit.fit.tree.primitive_count(), 4u);
+  const MeshFitResult fit = fitted_by_construction(mesh, 4);
   EXPECT_GT(iou_against(mesh, fit.fit.tree, 128), 0.995);
 }
 
@@ -187,11 +192,7 @@ TEST_F(Construction3D, ABallBoredAlongThreeAxesIsBuiltAsItsFourPrimitives) {
       "difference() { sphere(r = 15, $fn = 64); cylinder(r = 5, h = 40, center = true, $fn = 48);"
       " rotate([90, 0, 0]) cylinder(r = 5, h = 40, center = true, $fn = 48);"
       " rotate([0, 90, 0]) cylinder(r = 5, h = 40, center = true, $fn = 48); }");
-  FitOptions3D o;
-  o.time_limit = 30;
-  const MeshFitResult fit = fit_mesh(mesh, o);
-  EXPECT_EQ(fit.fit.stats.stop_reason, "constructed");
-  EXPECT_EQ(fit.fit.tree.primitive_count(), 4u);
+  const MeshFitResult fit = fitted_by_construction(mesh, 4);
   EXPECT_GT(fit.fit.stats.iou, 0.98);
   EXPECT_GT(iou_against(mesh, fit.fit.tree, 96), 0.98);
 }

@@ -99,6 +99,7 @@ struct Growth {
   const std::vector<Candidate>* holes = nullptr;
   Prices prices;
   const FirstCounts* first = nullptr;
+  const std::vector<double>* price = nullptr;  // per literal, of a term of it to this growth
   std::size_t* words_counted = nullptr;  // the work done, against kMostWordsCounted
 };
 
@@ -147,13 +148,9 @@ bool grow_step(const Growth& g, std::size_t seed, Candidate& c, Column& rest, st
   std::vector<std::uint32_t> rest_words, kept_words;
   if (!first) rest_words = words_of(rest), kept_words = words_of(kept);
   if (g.words_counted) *g.words_counted += rest_words.size() * g.cells.columns.size() + kept_words.size();
-  const std::size_t n = g.cells.columns.size();
-  std::vector<double> price(n);
-  std::vector<std::size_t> order(n);
-  for (std::size_t l = 0; l < n; ++l) {
-    price[l] = literal_price((*g.cells.literals)[l]) * g.prices.literal + eps;
-    order[l] = l;
-  }
+  const std::vector<double>& price = *g.price;
+  std::vector<std::size_t> order(price.size());
+  for (std::size_t l = 0; l < order.size(); ++l) order[l] = l;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return removed[a] / price[a] > removed[b] / price[b]; });
   for (const std::size_t l : order) {
     if (!(removed[l] / price[l] > best)) break;
@@ -297,8 +294,11 @@ void grow_all(const Growth& g, const Column& among, const Column& region, Clock:
   Column taken(among.size(), 0);
   std::size_t attempts = 0;
   const FirstCounts first = first_counts(g, region);
+  std::vector<double> price;
+  for (const Literal& l : *g.cells.literals) price.push_back(literal_price(l) * g.prices.literal + g.cells.samples->face_weight);
   Growth counted = g;
   counted.first = &first;
+  counted.price = &price;
   std::size_t words = 0;
   counted.words_counted = &words;
   for (std::size_t seed : seeds_in(g.cells, among)) {
