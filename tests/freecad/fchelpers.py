@@ -14,6 +14,8 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 BUILD = os.environ.get("CSGFIT_BUILD_DIR", os.path.join(REPO, "build"))
 BENCH = os.path.join(os.path.dirname(REPO), "shared", "benchmarks", "2d")
 FREECAD_LIB = "/usr/lib/freecad-python3/lib"
+# FreeCAD's PySide shim, which the workbench imports Qt through; FreeCAD puts it on its own path.
+FREECAD_QT_SHIM = "/usr/share/freecad/Ext"
 WORKBENCH = os.path.join(REPO, "freecad_workbench")
 
 if FREECAD_LIB not in sys.path:

@@ -319,9 +319,9 @@ def test_fcstd_writer_builds_a_morph_document(tmp_path, doc):
 
 PANEL_CHECK = r"""
 import json, sys, types
-sys.path.append({lib!r}); sys.path.insert(0, {workbench!r})
+sys.path.append({lib!r}); sys.path.append({shim!r}); sys.path.insert(0, {workbench!r})
 import FreeCAD as App
-from PySide2 import QtWidgets
+from csgfit_freecad.qt import QtWidgets
 app = QtWidgets.QApplication([])
 # FreeCADGui without a main window has no addCommand: a stand-in records what register() adds.
 added = {{}}
@@ -357,7 +357,7 @@ print(json.dumps({{"summary": summary, "scad_morph": "morph = -1;" in scad and "
 
 
 def test_morph_command_is_registered_and_its_panel_builds_without_a_gui(tmp_path):
-    code = PANEL_CHECK.format(lib=H.FREECAD_LIB, workbench=H.WORKBENCH,
+    code = PANEL_CHECK.format(lib=H.FREECAD_LIB, shim=H.FREECAD_QT_SHIM, workbench=H.WORKBENCH,
                               morph=json.dumps(MORPH_2D), scad=str(tmp_path / "m.scad"))
     env = dict(os.environ, QT_QPA_PLATFORM="offscreen", CSGFIT_BUILD_DIR=H.BUILD)
     proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
