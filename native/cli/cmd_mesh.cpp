@@ -29,13 +29,13 @@ struct MeshArgs {
 void add_mesh_options(CLI::App& mesh, MeshArgs& a) {
   a.fit.time_limit = 30;
   a.fit.fn = 64;
-  a.fit.primitives = "box,sphere,cylinder,cone,ellipsoid,torus,prism";
+  a.fit.primitives = kDefaultMeshPrimitives;
   add_fit_args(mesh, a.fit,
                {"STL, OBJ, OFF or PLY mesh, or .npy/.binvox voxel grid",
                 "output: .scad, .json, .step or .FCStd",
                 "size weight per primitive in voxels (default: 140 per million grid voxels)",
-                "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism,rounded_box (or "
-                "all: every one but rounded_box)",
+                "comma-separated: box,sphere,cylinder,cone,ellipsoid,torus,prism,rounded_box (the "
+                "default: every one; all: every one but rounded_box)",
                 "OpenSCAD $fn for round primitives", "no progress bar, warnings or summary"});
   mesh.add_option("--resolution", a.resolution,
                   "voxels along the longest side of a mesh's search grid (0 = auto: a coarse grid "

@@ -12,6 +12,7 @@
 #include "bindings.h"
 #include "csgfit/error.h"
 #include "csgfit/model/memory_budget.h"
+#include "csgfit/pipeline/fit_mesh.h"
 #include "csgfit/pipeline/option_limits.h"
 
 namespace csgfit_python {
@@ -119,6 +120,7 @@ const csgfit::NumberRule& rule_named(const std::string& name) {
 }
 
 void bind_limits(py::module_& m) {
+  m.attr("DEFAULT_MESH_PRIMITIVES") = csgfit::kDefaultMeshPrimitives;
   m.def("rule_violation",
         [](const std::string& rule, double value) {
           return csgfit::rule_violation(rule_named(rule), value);

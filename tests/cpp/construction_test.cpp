@@ -176,6 +176,21 @@ TEST_F(Construction3D, ARoundedPlateIsOneRoundedBoxWhenRoundedBoxesAreNamed) {
   EXPECT_GT(plain.tree.primitive_count(), 2u);
 }
 
+// A rounded block under a thin rounded lid a little smaller (a press-fit peg, a stepped
+// plate): with the default kinds each outline is one rounded box, the lid's reaching down
+// through the block, not pieces split at the lower corners' axes; and the ledge's samples
+// beside the lid's polygonal corners do not stop it.
+TEST_F(Construction3D, AStepInARoundedOutlineIsTwoRoundedBoxes) {
+  const TriangleMesh mesh = openscad_mesh(
+      "linear_extrude(12) offset(r = 1, $fn = 28) square([6, 4], center = true);"
+      " translate([0, 0, 12]) linear_extrude(0.3) offset(r = 1, $fn = 28) square([5.75, 3.75], center = true);");
+  ConstructionOptions o;
+  o.kinds = PrimitiveSet3D::parse(kDefaultMeshPrimitives);
+  const Construction c = construct_from_surfaces(segment_mesh_surfaces(mesh), o);
+  expect_whole(mesh, c, 3);
+  EXPECT_EQ(count_leaves(c.tree, [](const Primitive3D& p) { return p.kind == PrimitiveKind3D::RoundedBox; }), 2);
+}
+
 // The mesh fit takes the constructed tree when it explains the mesh, without a search.
 TEST_F(Construction3D, TheMeshFitIsTheConstructionWhenItExplainsTheMesh) {
   const TriangleMesh mesh = openscad_mesh(

@@ -84,7 +84,7 @@ def fit_mesh(mesh, *, resolution: int = 0, voxel_size: float = 0.0, time: float 
     threads: 0 = all cores. seed: same seed and threads, same tree (when it converges).
     k: size weight per primitive in voxels; None = 140 per million grid voxels.
     primitives: list or comma-separated names of PRIMITIVE_TYPES_3D, or "all"; boxes are
-        required. Default: all but the torus.
+        required. Default: DEFAULT_PRIMITIVES_3D (every kind, the rounded box too).
     progress / cancel: as for fit_image (cancel stops the fit within a fraction of a second and
         returns the best tree so far, stats.stop_reason == "cancelled").
     construct: build the tree from the mesh's faces first (stats.stop_reason ==

@@ -17,8 +17,8 @@ PRIMITIVE_TYPES = ("rectangle", "circle", "ellipse", "triangle")
 #: 3D primitive names (JSON "type"); "prism" is the triangular prism.
 PRIMITIVE_TYPES_3D = ("box", "sphere", "cylinder", "cone", "ellipsoid", "torus", "prism",
                       "rounded_box")
-#: What fit_mesh / fit_voxels use by default (the CLI's default: no torus).
-DEFAULT_PRIMITIVES_3D = ("box", "sphere", "cylinder", "cone", "ellipsoid", "prism")
+#: What fit_mesh / fit_voxels use by default: the CLI's default, from the same place.
+DEFAULT_PRIMITIVES_3D = tuple(_csgfit.DEFAULT_MESH_PRIMITIVES.split(","))
 QUALITIES = ("fast", "default", "best", "paper")
 
 

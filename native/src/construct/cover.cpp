@@ -1,6 +1,7 @@
 #include "cover.h"
 
 #include <algorithm>
+#include <tuple>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -249,11 +250,18 @@ FirstCounts first_counts(const Growth& g, const Column& region) {
 
 // The largest product about the seed that holds no forbidden sample (but what its holes take
 // away); nullopt-like empty product with `ok` false when some cannot be separated.
-bool grow(const Growth& g, std::size_t seed, const Column& region, Candidate& out) {
+bool grow(const Growth& g, std::size_t seed, const Column& region, Candidate& out, int start = -1) {
   Candidate c;
   c.covered = region;
   Column rest = g.forbidden;
   and_with(rest, region);
+  if (start >= 0) {
+    const Term t{start, true};
+    c.product.push_back(t);
+    const Column s = side(g.cells, t);
+    and_with(c.covered, s);
+    and_with(rest, s);
+  }
   // What each term takes out at the first step (the most it ever takes out).
   std::vector<double> removed(g.cells.columns.size(), std::numeric_limits<double>::infinity());
   if (g.first)
@@ -288,7 +296,17 @@ std::vector<std::size_t> seeds_in(const Cells& cells, const Column& among) {
   return out;
 }
 
-// Candidates grown from every cell of `among` not yet inside one grown before.
+bool has_product(const std::vector<Candidate>& list, const Product& p) {
+  const auto sorted = [](Product q) {
+    std::sort(q.begin(), q.end(), [](const Term& a, const Term& b) { return std::tie(a.literal, a.inside) < std::tie(b.literal, b.inside); });
+    return q;
+  };
+  const Product key = sorted(p);
+  return std::any_of(list.begin(), list.end(), [&](const Candidate& c) { return sorted(c.product) == key; });
+}
+
+// Candidates grown from every cell of `among` not yet inside one grown before, and from each
+// primitive.
 void grow_all(const Growth& g, const Column& among, const Column& region, Clock::time_point deadline,
               std::vector<Candidate>& out) {
   Column taken(among.size(), 0);
@@ -301,19 +319,36 @@ void grow_all(const Growth& g, const Column& among, const Column& region, Clock:
   counted.price = &price;
   std::size_t words = 0;
   counted.words_counted = &words;
-  for (std::size_t seed : seeds_in(g.cells, among)) {
+  const std::vector<std::size_t> seeds = seeds_in(g.cells, among);
+  const auto spent = [&] {
+    return Clock::now() > deadline || out.size() >= kMostCandidates || ++attempts > kMostGrowths || words > kMostWordsCounted;
+  };
+  const auto keep = [&](Candidate& c) {
+    c.cost = product_cost(c.product, *g.cells.literals);
+    or_with(taken, c.covered);
+    c.index_words();
+    out.push_back(std::move(c));
+  };
+  for (std::size_t seed : seeds) {
     if (bit(taken, seed)) continue;
-    if (Clock::now() > deadline || out.size() >= kMostCandidates || ++attempts > kMostGrowths) break;
-    if (words > kMostWordsCounted) break;
+    if (spent()) break;
     Candidate c;
     if (!grow(counted, seed, region, c)) {
       taken[seed / 64] |= 1ULL << (seed % 64);
       continue;
     }
-    c.cost = product_cost(c.product, *g.cells.literals);
-    or_with(taken, c.covered);
-    c.index_words();
-    out.push_back(std::move(c));
+    keep(c);
+  }
+  // The greedy growth from a cell is myopic: a primitive that holds cells on both sides of a
+  // step (a plate's outline running on under a smaller one) loses to the planes that split
+  // them. So each primitive also starts a growth of its own, from its largest cell.
+  for (std::size_t l = 0; l < g.cells.literals->size(); ++l) {
+    if ((*g.cells.literals)[l].plane) continue;
+    const auto seed = std::find_if(seeds.begin(), seeds.end(), [&](std::size_t i) { return bit(g.cells.columns[l], i); });
+    if (seed == seeds.end()) continue;
+    if (spent()) break;
+    Candidate c;
+    if (grow(counted, *seed, region, c, static_cast<int>(l)) && !has_product(out, c.product)) keep(c);
   }
 }
 

@@ -60,12 +60,6 @@ Primitive3D long_cylinder(const Vec3& c, const Vec3& d, double r, const Domain& 
   return Primitive3D::cylinder(mid[0], mid[1], mid[2], r, 2 * dom.diagonal, frame_along(d, phase));
 }
 
-// Round stand-in for a polygon too fine to write as one: the circle of the same area.
-double area_radius(double circumradius, int sides) {
-  if (sides <= 0) return circumradius;
-  return circumradius * std::sqrt(sides * std::sin(2 * M_PI / sides) / (2 * M_PI));
-}
-
 void add_cylinder(const MeshSurface& s, const Domain& dom, int max_sides, std::vector<Literal>& out) {
   const SurfacePatch& p = s.shape;
   const bool polygon = s.sides > 0 && s.sides <= max_sides;
@@ -149,6 +143,11 @@ Quaternion frame_along(const Vec3& z, const Vec3& x) {
   Mat3 m;
   for (int r = 0; r < 3; ++r) m[r] = {u[r], v[r], z[r]};
   return quaternion_from_matrix(m);
+}
+
+double area_radius(double circumradius, int sides) {
+  if (sides <= 0) return circumradius;
+  return circumradius * std::sqrt(sides * std::sin(2 * M_PI / sides) / (2 * M_PI));
 }
 
 int model_axis(const Vec3& d) {

@@ -31,6 +31,10 @@ struct Literal {
 std::vector<Literal> literals_of(const MeshSurfaces& surfaces, const Bounds3& domain,
                                  int max_polygon_sides, const PrimitiveSet3D& kinds);
 
+/// Round stand-in for a regular polygon of `sides` (0: a true circle) too fine to write as one:
+/// the radius of the circle of the same area.
+double area_radius(double circumradius, int sides);
+
 /// Whether a unit vector lies along a model axis (the fitting frame's): which one, or -1.
 int model_axis(const Vec3& direction);
 

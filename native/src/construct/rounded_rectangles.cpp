@@ -21,6 +21,7 @@ struct Arc {
   Vec3 centre{0, 0, 0}, axis{0, 0, 1};
   Vec3 outward{1, 0, 0};  // from the centre to the middle of the arc's faces
   double radius = 0, sweep = 0;
+  int sides = 0;  // of the polygon the arc is part of (0: round)
   bool convex = true;
 };
 
@@ -32,6 +33,7 @@ std::vector<Arc> arcs_of(const MeshSurfaces& ms) {
     if (s.shape.kind != SurfaceKind::Cylinder || s.sweep >= kWholeSweep || s.sweep < kLeastCornerSweep) continue;
     Arc a;
     a.axis = s.shape.axis, a.radius = s.shape.radius, a.sweep = s.sweep, a.convex = s.shape.convex;
+    a.sides = s.sides;
     a.centre = s.shape.point;
     Vec3 mean{0, 0, 0};
     for (int t : s.triangles)
@@ -51,6 +53,7 @@ bool alike(const Arc& a, const Arc& b, double tol) {
 struct Outline {
   Vec3 axis, u, v, origin;  // origin: a point on the axis plane the s, t are measured from
   double s0, s1, t0, t1, radius;
+  int sides;
 };
 
 // Whether an arc is the corner of the outline its position asks for (quarter or half arcs
@@ -73,7 +76,7 @@ bool outline_of(const std::vector<Arc>& arcs, std::size_t i, std::size_t j, doub
   const Arc &a = arcs[i], &b = arcs[j];
   const Vec3 apart = reject(sub(b.centre, a.centre), a.axis);
   if (norm(apart) <= tol || dot(a.outward, b.outward) > -kCornerFacing) return false;
-  o.axis = a.axis, o.radius = a.radius, o.origin = a.centre;
+  o.axis = a.axis, o.radius = a.radius, o.sides = a.sides, o.origin = a.centre;
   if (a.sweep > kHalfSweep) {
     // A slot: two half circles facing apart along the line between them.
     o.u = normalized(apart);
@@ -114,11 +117,14 @@ Literal outline_literal(const Outline& o, const Bounds3& domain) {
   int big = 0;
   for (int k = 1; k < 3; ++k) big = std::abs(x[k]) > std::abs(x[big]) ? k : big;
   if (x[big] < 0) x = scale(x, -1);
+  // The sides lie on the outline; the corners, polygons with their vertices on the arc, are
+  // rounded to the circle of their area, as a fine polygonal cylinder is.
   Literal l;
   l.plane = false;
   l.solid = Primitive3D::rounded_box(c[0], c[1], c[2], std::max(along_u, along_v) + 2 * o.radius,
                                      std::min(along_u, along_v) + 2 * o.radius,
-                                     2 * norm(sub(domain.hi, domain.lo)), o.radius, frame_along(o.axis, x));
+                                     2 * norm(sub(domain.hi, domain.lo)), area_radius(o.radius, o.sides),
+                                     frame_along(o.axis, x));
   return l;
 }
 

@@ -121,6 +121,34 @@ void drop_volume_samples_near(const MeshSurface& s, double band, Samples& out) {
     }
 }
 
+// A face beside a curved surface (a ledge around a polygonal boss, the floor of a rounded
+// pocket) has face samples up to its edge, where the curve's facets and the round surface
+// that stands for them disagree: they too are on either side by the tessellation's whim.
+// first_pair: each surface's first face sample, and the end of the last.
+// Only about the curve's own facets: its surface runs on past them, through faces it does not
+// touch, whose samples may be all that tells two cells apart.
+void drop_face_samples_near_curves(const MeshSurfaces& ms, const std::vector<std::size_t>& first_pair, Samples& out) {
+  for (std::size_t c = 0; c < ms.surfaces.size(); ++c) {
+    const MeshSurface& curve = ms.surfaces[c];
+    const double stray = sagitta(ms, curve);
+    if (!(stray > 0)) continue;
+    Bounds3 near{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
+    for (int t : curve.triangles)
+      for (int v : ms.mesh.triangles[t])
+        for (int a = 0; a < 3; ++a) {
+          near.lo[a] = std::min(near.lo[a], ms.mesh.vertices[v][a] - 2 * stray);
+          near.hi[a] = std::max(near.hi[a], ms.mesh.vertices[v][a] + 2 * stray);
+        }
+    for (std::size_t i = first_pair.front(); i < first_pair.back(); ++i) {
+      if (i >= first_pair[c] && i < first_pair[c + 1]) continue;
+      const Vec3& p = out.points[i];
+      bool in_box = true;
+      for (int a = 0; a < 3; ++a) in_box = in_box && p[a] >= near.lo[a] && p[a] <= near.hi[a];
+      if (in_box && std::abs(surface_distance(curve.shape, p)) < stray) out.real[i / 64] &= ~(1ULL << (i % 64));
+    }
+  }
+}
+
 }  // namespace
 
 Samples sample_part(const MeshSurfaces& ms, const SampleOptions& o) {
@@ -130,7 +158,9 @@ Samples sample_part(const MeshSurfaces& ms, const SampleOptions& o) {
   for (const MeshSurface& s : ms.surfaces) total_area += s.area;
   rnd::Rng rng(rnd::splitmix(o.seed));
   const std::size_t before = out.points.size();
+  std::vector<std::size_t> first_pair;  // per surface, its first face sample
   for (const MeshSurface& s : ms.surfaces) {
+    first_pair.push_back(out.points.size());
     const double floor_offset = kOffsetTolerances * ms.tolerance;
     const double stray = sagitta(ms, s);
     const double offset = std::min(std::max(floor_offset, kOffsetSagittas * stray), kLongestOffset * ms.diagonal);
@@ -143,6 +173,8 @@ Samples sample_part(const MeshSurfaces& ms, const SampleOptions& o) {
   out.inside.resize(words);
   out.real.resize(words, 0);
   for (std::size_t i = before; i < out.points.size(); ++i) set_bit(out.real, i);
+  first_pair.push_back(out.points.size());
+  drop_face_samples_near_curves(ms, first_pair, out);
   for (std::size_t i = out.points.size(); i < words * 64; ++i) out.points.push_back(out.domain.lo);
   return out;
 }

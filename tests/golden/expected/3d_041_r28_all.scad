@@ -7,199 +7,66 @@
 segments = 64; // [12:1:360]
 
 /* [Box 1] */
-box_1_cx = 0.1071; // [-50:0.01:50]
-box_1_cy = 0; // [-50:0.01:50]
-box_1_cz = 0.0221; // [-50:0.01:50]
-box_1_size_x = 5.7143; // [0:0.01:50]
-box_1_size_y = 2.381; // [0:0.01:50]
-box_1_size_z = 9.9559; // [0:0.01:50]
+box_1_cx = -0.3889; // [-50:0.01:50]
+box_1_cy = 0.3889; // [-50:0.01:50]
+box_1_cz = 0; // [-50:0.01:50]
+box_1_rot_x = 0.006999; // [-180:0.1:180]
+box_1_rot_y = -0.002013; // [-180:0.1:180]
+box_1_rot_z = -44.998887; // [-180:0.1:180]
+box_1_size_x = 4.7786; // [0:0.01:50]
+box_1_size_y = 6.2693; // [0:0.01:50]
+box_1_size_z = 10; // [0:0.01:50]
 
 /* [Box 2] */
-box_2_cx = -0.3377; // [-50:0.01:50]
+box_2_cx = -2.5119; // [-50:0.01:50]
 box_2_cy = 0; // [-50:0.01:50]
-box_2_cz = -3.5073; // [-50:0.01:50]
-box_2_size_x = 6.6039; // [0:0.01:50]
+box_2_cz = 0.3661; // [-50:0.01:50]
+box_2_size_x = 0.4762; // [0:0.01:50]
 box_2_size_y = 2.381; // [0:0.01:50]
-box_2_size_z = 7.2691; // [0:0.01:50]
+box_2_size_z = 10.7322; // [0:0.01:50]
 
-/* [Ellipsoid 3] */
-ellipsoid_3_cx = -1.9743; // [-50:0.01:50]
-ellipsoid_3_cy = 0.1684; // [-50:0.01:50]
-ellipsoid_3_cz = -2.7447; // [-50:0.01:50]
-ellipsoid_3_rot_x = -89.823741; // [-180:0.1:180]
-ellipsoid_3_rot_y = 15.525241; // [-180:0.1:180]
-ellipsoid_3_rot_z = -88.169865; // [-180:0.1:180]
-ellipsoid_3_rx = 7.9188; // [0:0.01:50]
-ellipsoid_3_ry = 4.0742; // [0:0.01:50]
-ellipsoid_3_rz = 1.7412; // [0:0.01:50]
+/* [Box 3] */
+box_3_cx = 0.2169; // [-50:0.01:50]
+box_3_cy = 0.1415; // [-50:0.01:50]
+box_3_cz = 0; // [-50:0.01:50]
+box_3_rot_x = -0.010507; // [-180:0.1:180]
+box_3_rot_y = 0.013515; // [-180:0.1:180]
+box_3_rot_z = -136.951235; // [-180:0.1:180]
+box_3_size_x = 5.2901; // [0:0.01:50]
+box_3_size_y = 4.6316; // [0:0.01:50]
+box_3_size_z = 10; // [0:0.01:50]
 
 /* [Box 4] */
-box_4_cx = -0.8218; // [-50:0.01:50]
-box_4_cy = -0.4167; // [-50:0.01:50]
-box_4_cz = -0.5688; // [-50:0.01:50]
-box_4_rot_y = -90; // [-180:0.1:180]
-box_4_rot_z = -90; // [-180:0.1:180]
-box_4_size_x = 4.1004; // [0:0.01:50]
-box_4_size_y = 2.904; // [0:0.01:50]
-box_4_size_z = 1.5476; // [0:0.01:50]
+box_4_cx = -2.8571; // [-50:0.01:50]
+box_4_cy = -0.0846; // [-50:0.01:50]
+box_4_cz = -0.2099; // [-50:0.01:50]
+box_4_size_x = 0.2143; // [0:0.01:50]
+box_4_size_y = 0.8835; // [0:0.01:50]
+box_4_size_z = 11.0708; // [0:0.01:50]
 
 /* [Box 5] */
-box_5_cx = 1.3177; // [-50:0.01:50]
-box_5_cy = 0.16; // [-50:0.01:50]
-box_5_cz = -1.5347; // [-50:0.01:50]
-box_5_rot_y = -90; // [-180:0.1:180]
-box_5_rot_z = 90; // [-180:0.1:180]
-box_5_size_x = 3.3591; // [0:0.01:50]
-box_5_size_y = 3.2931; // [0:0.01:50]
-box_5_size_z = 2.7009; // [0:0.01:50]
+box_5_cx = 0.1071; // [-50:0.01:50]
+box_5_cy = 0; // [-50:0.01:50]
+box_5_cz = 0; // [-50:0.01:50]
+box_5_size_x = 5.7143; // [0:0.01:50]
+box_5_size_y = 2.381; // [0:0.01:50]
+box_5_size_z = 6.4286; // [0:0.01:50]
 
 /* [Box 6] */
-box_6_cx = 0.5886; // [-50:0.01:50]
-box_6_cy = 0; // [-50:0.01:50]
-box_6_cz = 2.4675; // [-50:0.01:50]
-box_6_rot_x = 0.238796; // [-180:0.1:180]
-box_6_rot_y = 2.068443; // [-180:0.1:180]
-box_6_rot_z = 0.223876; // [-180:0.1:180]
-box_6_size_x = 5.8534; // [0:0.01:50]
-box_6_size_y = 2.381; // [0:0.01:50]
-box_6_size_z = 4.9023; // [0:0.01:50]
+box_6_cx = 0.4982; // [-50:0.01:50]
+box_6_cy = -0.4167; // [-50:0.01:50]
+box_6_cz = 0; // [-50:0.01:50]
+box_6_size_x = 5.5441; // [0:0.01:50]
+box_6_size_y = 1.5476; // [0:0.01:50]
+box_6_size_z = 5.2381; // [0:0.01:50]
 
-/* [Box 7] */
-box_7_cx = -1.6738; // [-50:0.01:50]
-box_7_cy = 0.1495; // [-50:0.01:50]
-box_7_cz = 1.5277; // [-50:0.01:50]
-box_7_rot_x = -1.513663; // [-180:0.1:180]
-box_7_rot_y = -5.266372; // [-180:0.1:180]
-box_7_rot_z = -0.406672; // [-180:0.1:180]
-box_7_size_x = 2.9846; // [0:0.01:50]
-box_7_size_y = 2.5555; // [0:0.01:50]
-box_7_size_z = 5.0223; // [0:0.01:50]
-
-/* [Box 8] */
-box_8_cx = -1.2689; // [-50:0.01:50]
-box_8_cy = -0.4167; // [-50:0.01:50]
-box_8_cz = 1.3466; // [-50:0.01:50]
-box_8_rot_y = -90; // [-180:0.1:180]
-box_8_rot_z = -90; // [-180:0.1:180]
-box_8_size_x = 2.545; // [0:0.01:50]
-box_8_size_y = 2.0099; // [0:0.01:50]
-box_8_size_z = 1.5476; // [0:0.01:50]
-
-/* [Box 9] */
-box_9_cx = -0.9502; // [-50:0.01:50]
-box_9_cy = 0; // [-50:0.01:50]
-box_9_cz = 5.0201; // [-50:0.01:50]
-box_9_rot_x = -171.055285; // [-180:0.1:180]
-box_9_rot_y = -0.050669; // [-180:0.1:180]
-box_9_rot_z = 89.814286; // [-180:0.1:180]
-box_9_size_x = 2.381; // [0:0.01:50]
-box_9_size_y = 2.1408; // [0:0.01:50]
-box_9_size_z = 3.5026; // [0:0.01:50]
-
-/* [Box 10] */
-box_10_cx = 1.3619; // [-50:0.01:50]
-box_10_cy = 0.139; // [-50:0.01:50]
-box_10_cz = 1.586; // [-50:0.01:50]
-box_10_rot_x = 0.000321; // [-180:0.1:180]
-box_10_rot_y = -0.002934; // [-180:0.1:180]
-box_10_rot_z = 9.68773; // [-180:0.1:180]
-box_10_size_x = 3.9435; // [0:0.01:50]
-box_10_size_y = 2.4862; // [0:0.01:50]
-box_10_size_z = 3.2566; // [0:0.01:50]
-
-/* [Box 11] */
-box_11_cx = 0.2057; // [-50:0.01:50]
-box_11_cy = 0.0728; // [-50:0.01:50]
-box_11_cz = 1.3755; // [-50:0.01:50]
-box_11_rot_x = -0.180627; // [-180:0.1:180]
-box_11_rot_y = -0.118781; // [-180:0.1:180]
-box_11_rot_z = -7.283537; // [-180:0.1:180]
-box_11_size_x = 1.7408; // [0:0.01:50]
-box_11_size_y = 2.4284; // [0:0.01:50]
-box_11_size_z = 2.4871; // [0:0.01:50]
-
-/* [Box 12] */
-box_12_cx = 0.5673; // [-50:0.01:50]
-box_12_cy = 0.7738; // [-50:0.01:50]
-box_12_cz = 1.9484; // [-50:0.01:50]
-box_12_rot_x = 90.006749; // [-180:0.1:180]
-box_12_rot_y = 10.478594; // [-180:0.1:180]
-box_12_rot_z = -0.000348; // [-180:0.1:180]
-box_12_size_x = 1.8777; // [0:0.01:50]
-box_12_size_y = 1.37; // [0:0.01:50]
-box_12_size_z = 0.8333; // [0:0.01:50]
-
-/* [Cylinder 13] */
-cyl_13_cx = 2.1911; // [-50:0.01:50]
-cyl_13_cy = -2.9229; // [-50:0.01:50]
-cyl_13_cz = 0.8524; // [-50:0.01:50]
-cyl_13_rot_x = -2.046359; // [-180:0.1:180]
-cyl_13_rot_y = -0.818725; // [-180:0.1:180]
-cyl_13_r = 3.4103; // [0:0.01:50]
-cyl_13_h = 3.7221; // [0:0.01:50]
-
-/* [Prism 14] */
-prism_14_cx = 2.6167; // [-50:0.01:50]
-prism_14_cy = -0.8204; // [-50:0.01:50]
-prism_14_cz = 3.2969; // [-50:0.01:50]
-prism_14_rot_x = 179.687746; // [-180:0.1:180]
-prism_14_rot_y = 9.328744; // [-180:0.1:180]
-prism_14_rot_z = 45.111397; // [-180:0.1:180]
-prism_14_w = 3.8759; // [0:0.01:50]
-prism_14_h = 1.1961; // [0:0.01:50]
-prism_14_depth = 1.3193; // [0:0.01:50]
-prism_14_apex = 0.477533; // [-4:0.01:4]
-
-/* [Box 15] */
-box_15_cx = -1.2898; // [-50:0.01:50]
-box_15_cy = -0.7874; // [-50:0.01:50]
-box_15_cz = -4.1071; // [-50:0.01:50]
-box_15_rot_x = 180; // [-180:0.1:180]
-box_15_rot_z = 90; // [-180:0.1:180]
-box_15_size_x = 3.9558; // [0:0.01:50]
-box_15_size_y = 1.968; // [0:0.01:50]
-box_15_size_z = 1.7857; // [0:0.01:50]
-
-/* [Box 16] */
-box_16_cx = 1.5957; // [-50:0.01:50]
-box_16_cy = -0.4167; // [-50:0.01:50]
-box_16_cz = -1.3098; // [-50:0.01:50]
-box_16_rot_y = 90; // [-180:0.1:180]
-box_16_rot_z = 90; // [-180:0.1:180]
-box_16_size_x = 2.6184; // [0:0.01:50]
-box_16_size_y = 6.1671; // [0:0.01:50]
-box_16_size_z = 1.5476; // [0:0.01:50]
-
-/* [Prism 17] */
-prism_17_cx = 2.6301; // [-50:0.01:50]
-prism_17_cy = -0.8203; // [-50:0.01:50]
-prism_17_cz = -2.8399; // [-50:0.01:50]
-prism_17_rot_x = 179.990671; // [-180:0.1:180]
-prism_17_rot_y = -1.663102; // [-180:0.1:180]
-prism_17_rot_z = 45.255329; // [-180:0.1:180]
-prism_17_w = 2.2927; // [0:0.01:50]
-prism_17_h = 1.1957; // [0:0.01:50]
-prism_17_depth = 1.4018; // [0:0.01:50]
-prism_17_apex = -0.265336; // [-4:0.01:4]
-
-/* [Box 18] */
-box_18_cx = -2.6943; // [-50:0.01:50]
-box_18_cy = 1.9225; // [-50:0.01:50]
-box_18_cz = 2.6994; // [-50:0.01:50]
-box_18_rot_x = 82.079277; // [-180:0.1:180]
-box_18_rot_y = -70.148579; // [-180:0.1:180]
-box_18_rot_z = -87.812702; // [-180:0.1:180]
-box_18_size_x = 10.0473; // [0:0.01:50]
-box_18_size_y = 2.7427; // [0:0.01:50]
-box_18_size_z = 0.0927; // [0:0.01:50]
-
-/* [Cylinder 19] */
-cyl_19_cx = 0.3451; // [-50:0.01:50]
-cyl_19_cy = -1.2134; // [-50:0.01:50]
-cyl_19_cz = 0.0005; // [-50:0.01:50]
-cyl_19_rot_x = -90; // [-180:0.1:180]
-cyl_19_r = 1.3687; // [0:0.01:50]
-cyl_19_h = 5.7731; // [0:0.01:50]
+/* [Cylinder 7] */
+cyl_7_cx = 0.3453; // [-50:0.01:50]
+cyl_7_cy = 0.2705; // [-50:0.01:50]
+cyl_7_cz = 0; // [-50:0.01:50]
+cyl_7_rot_x = 90; // [-180:0.1:180]
+cyl_7_r = 1.3687; // [0:0.01:50]
+cyl_7_h = 2.9219; // [0:0.01:50]
 
 /* [Hidden] */
 $fn = segments;
@@ -208,49 +75,21 @@ $fn = segments;
 // this radius gives the polygon the fitted circle's area instead.
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
-// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with their
-// vertices on the sphere: a stack of frusta. fn_sphere_volume is that polyhedron's
-// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the fitted sphere's volume.
-function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :
-  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),
-      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))
-  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);
-function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
-  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
-
 module csg_high_res() {
   difference() {
-    translate([box_1_cx, box_1_cy, box_1_cz]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
-    difference() {
-      translate([box_2_cx, box_2_cy, box_2_cz]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
-      difference() {
-        translate([ellipsoid_3_cx, ellipsoid_3_cy, ellipsoid_3_cz]) rotate([ellipsoid_3_rot_x, ellipsoid_3_rot_y, ellipsoid_3_rot_z]) scale([ellipsoid_3_rx, ellipsoid_3_ry, ellipsoid_3_rz]) sphere(r = fn_sr(1));
-        translate([box_4_cx, box_4_cy, box_4_cz]) rotate([0, box_4_rot_y, box_4_rot_z]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
-      }
-      translate([box_5_cx, box_5_cy, box_5_cz]) rotate([0, box_5_rot_y, box_5_rot_z]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
-    }
-    difference() {
-      translate([box_6_cx, box_6_cy, box_6_cz]) rotate([box_6_rot_x, box_6_rot_y, box_6_rot_z]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
-      difference() {
-        translate([box_7_cx, box_7_cy, box_7_cz]) rotate([box_7_rot_x, box_7_rot_y, box_7_rot_z]) cube([box_7_size_x, box_7_size_y, box_7_size_z], center = true);
-        translate([box_8_cx, box_8_cy, box_8_cz]) rotate([0, box_8_rot_y, box_8_rot_z]) cube([box_8_size_x, box_8_size_y, box_8_size_z], center = true);
-        translate([box_9_cx, box_9_cy, box_9_cz]) rotate([box_9_rot_x, box_9_rot_y, box_9_rot_z]) cube([box_9_size_x, box_9_size_y, box_9_size_z], center = true);
-      }
-      difference() {
-        translate([box_10_cx, box_10_cy, box_10_cz]) rotate([box_10_rot_x, box_10_rot_y, box_10_rot_z]) cube([box_10_size_x, box_10_size_y, box_10_size_z], center = true);
-        difference() {
-          translate([box_11_cx, box_11_cy, box_11_cz]) rotate([box_11_rot_x, box_11_rot_y, box_11_rot_z]) cube([box_11_size_x, box_11_size_y, box_11_size_z], center = true);
-          translate([box_12_cx, box_12_cy, box_12_cz]) rotate([box_12_rot_x, box_12_rot_y, box_12_rot_z]) cube([box_12_size_x, box_12_size_y, box_12_size_z], center = true);
+    intersection() {
+      translate([box_1_cx, box_1_cy, box_1_cz]) rotate([box_1_rot_x, box_1_rot_y, box_1_rot_z]) cube([box_1_size_x, box_1_size_y, box_1_size_z], center = true);
+      union() {
+        translate([box_2_cx, box_2_cy, box_2_cz]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
+        intersection() {
+          translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
+          translate([box_4_cx, box_4_cy, box_4_cz]) cube([box_4_size_x, box_4_size_y, box_4_size_z], center = true);
         }
-        translate([cyl_13_cx, cyl_13_cy, cyl_13_cz]) rotate([cyl_13_rot_x, cyl_13_rot_y, 0]) cylinder(h = cyl_13_h, r = fn_r(cyl_13_r), center = true);
-        translate([prism_14_cx, prism_14_cy, prism_14_cz]) rotate([prism_14_rot_x, prism_14_rot_y, prism_14_rot_z]) linear_extrude(height = prism_14_depth, center = true) polygon([[-prism_14_w / 2, -prism_14_h / 2], [prism_14_w / 2, -prism_14_h / 2], [prism_14_apex * prism_14_w / 2, prism_14_h / 2]]);
+        translate([box_5_cx, box_5_cy, box_5_cz]) cube([box_5_size_x, box_5_size_y, box_5_size_z], center = true);
       }
     }
-    translate([box_15_cx, box_15_cy, box_15_cz]) rotate([box_15_rot_x, 0, box_15_rot_z]) cube([box_15_size_x, box_15_size_y, box_15_size_z], center = true);
-    translate([box_16_cx, box_16_cy, box_16_cz]) rotate([0, box_16_rot_y, box_16_rot_z]) cube([box_16_size_x, box_16_size_y, box_16_size_z], center = true);
-    translate([prism_17_cx, prism_17_cy, prism_17_cz]) rotate([prism_17_rot_x, prism_17_rot_y, prism_17_rot_z]) linear_extrude(height = prism_17_depth, center = true) polygon([[-prism_17_w / 2, -prism_17_h / 2], [prism_17_w / 2, -prism_17_h / 2], [prism_17_apex * prism_17_w / 2, prism_17_h / 2]]);
-    translate([box_18_cx, box_18_cy, box_18_cz]) rotate([box_18_rot_x, box_18_rot_y, box_18_rot_z]) cube([box_18_size_x, box_18_size_y, box_18_size_z], center = true);
-    translate([cyl_19_cx, cyl_19_cy, cyl_19_cz]) rotate([cyl_19_rot_x, 0, 0]) cylinder(h = cyl_19_h, r = fn_r(cyl_19_r), center = true);
+    translate([box_6_cx, box_6_cy, box_6_cz]) cube([box_6_size_x, box_6_size_y, box_6_size_z], center = true);
+    translate([cyl_7_cx, cyl_7_cy, cyl_7_cz]) rotate([cyl_7_rot_x, 0, 0]) cylinder(h = cyl_7_h, r = fn_r(cyl_7_r), center = true);
   }
 }
 

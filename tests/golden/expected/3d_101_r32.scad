@@ -6,114 +6,353 @@
 // Segments per full circle
 segments = 64; // [12:1:360]
 
-/* [Prism 1] */
-prism_1_cx = 0; // [-50:0.01:50]
-prism_1_cy = -2.6557; // [-50:0.01:50]
-prism_1_cz = -2.2811; // [-50:0.01:50]
-prism_1_rot_x = -89.924826; // [-180:0.1:180]
-prism_1_rot_y = 46.378924; // [-180:0.1:180]
-prism_1_rot_z = 90.037836; // [-180:0.1:180]
-prism_1_w = 14.0417; // [0:0.01:50]
-prism_1_h = 7.0128; // [0:0.01:50]
-prism_1_depth = 0.9091; // [0:0.01:50]
-prism_1_apex = 0.046549; // [-4:0.01:4]
+/* [Shared dimensions] */
+// radius of cylinders 1 and 14
+cyl_r = 0.9101; // [0:0.01:50]
+// height of cylinders 37 and 40
+hole_h = 1.2763; // [0:0.01:50]
+// height of cylinders 38 and 39
+hole_h2 = 1.2763; // [0:0.01:50]
+
+/* [Extrusion 1] */
+extrude_1_z = -4.0909; // [-50:0.01:50]
+extrude_1_h = 9.0909; // [0:0.01:50]
+
+/* [Cylinder 1] */
+cyl_1_cx = -0.4558; // [-50:0.01:50]
+cyl_1_cy = -4.0904; // [-50:0.01:50]
 
 /* [Box 2] */
-box_2_cx = 0.7434; // [-50:0.01:50]
-box_2_cy = -0.5092; // [-50:0.01:50]
-box_2_cz = -4.3877; // [-50:0.01:50]
-box_2_rot_x = 131.23476; // [-180:0.1:180]
-box_2_rot_y = -1.36256; // [-180:0.1:180]
-box_2_rot_z = 88.620197; // [-180:0.1:180]
-box_2_size_x = 10.0502; // [0:0.01:50]
-box_2_size_y = 2.2467; // [0:0.01:50]
-box_2_size_z = 0.4257; // [0:0.01:50]
+box_2_cx = -0.0001; // [-50:0.01:50]
+box_2_cy = -4.0904; // [-50:0.01:50]
+box_2_size_x = 0.9089; // [0:0.01:50]
+box_2_size_y = 1.8203; // [0:0.01:50]
 
-/* [Box 3] */
-box_3_cx = 0.5881; // [-50:0.01:50]
-box_3_cy = -5.1355; // [-50:0.01:50]
-box_3_cz = -0.2373; // [-50:0.01:50]
-box_3_rot_x = -178.510214; // [-180:0.1:180]
-box_3_rot_y = -84.673188; // [-180:0.1:180]
-box_3_rot_z = 45.879461; // [-180:0.1:180]
-box_3_size_x = 10.4808; // [0:0.01:50]
-box_3_size_y = 1.1838; // [0:0.01:50]
-box_3_size_z = 1.7631; // [0:0.01:50]
+/* [Cylinder 3] */
+cyl_3_cx = 0; // [-50:0.01:50]
+cyl_3_cy = -3.1818; // [-50:0.01:50]
+cyl_3_cz = 4.0909; // [-50:0.01:50]
+cyl_3_rot_y = 90; // [-180:0.1:180]
+cyl_3_r = 0.9089; // [0:0.01:50]
+cyl_3_h = 0.9091; // [0:0.01:50]
 
-/* [Cone 4] */
-cone_4_cx = 0.1183; // [-50:0.01:50]
-cone_4_cy = 0.6253; // [-50:0.01:50]
-cone_4_cz = -3.1725; // [-50:0.01:50]
-cone_4_rot_y = -90; // [-180:0.1:180]
-cone_4_r1 = 0.887; // [0:0.01:50]
-cone_4_r2 = 0.2618; // [0:0.01:50]
-cone_4_h = 0.6724; // [0:0.01:50]
+/* [Cylinder 4] */
+cyl_4_cx = 0; // [-50:0.01:50]
+cyl_4_cy = 4.0909; // [-50:0.01:50]
+cyl_4_cz = -3.1818; // [-50:0.01:50]
+cyl_4_rot_y = 90; // [-180:0.1:180]
+cyl_4_r = 0.9089; // [0:0.01:50]
+cyl_4_h = 0.9091; // [0:0.01:50]
 
-/* [Cone 5] */
-cone_5_cx = 0.0775; // [-50:0.01:50]
-cone_5_cy = -3.1625; // [-50:0.01:50]
-cone_5_cz = -0.8028; // [-50:0.01:50]
-cone_5_rot_x = 3.940742; // [-180:0.1:180]
-cone_5_rot_y = -88.681905; // [-180:0.1:180]
-cone_5_r1 = 0.8086; // [0:0.01:50]
-cone_5_r2 = 0.2919; // [0:0.01:50]
-cone_5_h = 0.5617; // [0:0.01:50]
+/* [Extrusion 2] */
+extrude_2_x = -0.4545; // [-50:0.01:50]
+extrude_2_rot_x = 90; // [-180:0.1:180]
+extrude_2_rot_z = 90; // [-180:0.1:180]
+extrude_2_h = 0.9091; // [0:0.01:50]
 
-/* [Prism 6] */
-prism_6_cx = 0; // [-50:0.01:50]
-prism_6_cy = -0.4332; // [-50:0.01:50]
-prism_6_cz = -0.1075; // [-50:0.01:50]
-prism_6_rot_x = -89.844626; // [-180:0.1:180]
-prism_6_rot_y = -46.855884; // [-180:0.1:180]
-prism_6_rot_z = -89.850368; // [-180:0.1:180]
-prism_6_w = 5.8104; // [0:0.01:50]
-prism_6_h = 0.8342; // [0:0.01:50]
-prism_6_depth = 0.9091; // [0:0.01:50]
-prism_6_apex = -0.017451; // [-4:0.01:4]
+/* [Box 5] */
+box_5_cx = -0.0229; // [-50:0.01:50]
+box_5_cy = 0.514; // [-50:0.01:50]
+box_5_angle = -7.002415; // [-180:0.1:180]
+box_5_size_z = 11.3632; // [0:0.01:50]
+box_5_size_x = 10.1297; // [0:0.01:50]
 
-/* [Ellipsoid 7] */
-ellipsoid_7_cx = 0.3064; // [-50:0.01:50]
-ellipsoid_7_cy = -3.1763; // [-50:0.01:50]
-ellipsoid_7_cz = 2.0896; // [-50:0.01:50]
-ellipsoid_7_rot_y = -90; // [-180:0.1:180]
-ellipsoid_7_rx = 0.7428; // [0:0.01:50]
-ellipsoid_7_ry = 0.7468; // [0:0.01:50]
-ellipsoid_7_rz = 0.3895; // [0:0.01:50]
+/* [Box 6] */
+box_6_cx = -3.6361; // [-50:0.01:50]
+box_6_cy = -0.0981; // [-50:0.01:50]
+box_6_size_y = 0.9085; // [0:0.01:50]
+box_6_size_z = 10.1962; // [0:0.01:50]
 
-/* [Prism 8] */
-prism_8_cx = 0; // [-50:0.01:50]
-prism_8_cy = 4.0939; // [-50:0.01:50]
-prism_8_cz = -2.8781; // [-50:0.01:50]
-prism_8_rot_x = 90.202597; // [-180:0.1:180]
-prism_8_rot_y = 44.972193; // [-180:0.1:180]
-prism_8_rot_z = 90.268309; // [-180:0.1:180]
-prism_8_w = 4.4142; // [0:0.01:50]
-prism_8_h = 1.7771; // [0:0.01:50]
-prism_8_depth = 0.9091; // [0:0.01:50]
-prism_8_apex = 0.138634; // [-4:0.01:4]
+/* [Extrusion 3] */
+extrude_3_x = -0.4545; // [-50:0.01:50]
+extrude_3_rot_x = 90; // [-180:0.1:180]
+extrude_3_rot_z = 90; // [-180:0.1:180]
+extrude_3_h = 0.9091; // [0:0.01:50]
 
-/* [Prism 9] */
-prism_9_cx = 0; // [-50:0.01:50]
-prism_9_cy = -2.7014; // [-50:0.01:50]
-prism_9_cz = 3.9314; // [-50:0.01:50]
-prism_9_rot_x = 89.982723; // [-180:0.1:180]
-prism_9_rot_y = 49.84048; // [-180:0.1:180]
-prism_9_rot_z = 89.947348; // [-180:0.1:180]
-prism_9_w = 4.284; // [0:0.01:50]
-prism_9_h = 1.6621; // [0:0.01:50]
-prism_9_depth = 0.9091; // [0:0.01:50]
-prism_9_apex = -0.279753; // [-4:0.01:4]
+/* [Box 7] */
+box_7_cx = -0.0802; // [-50:0.01:50]
+box_7_cy = 0.4714; // [-50:0.01:50]
+box_7_angle = -1.79842; // [-180:0.1:180]
+box_7_size_z = 10.5111; // [0:0.01:50]
+box_7_size_x = 9.3716; // [0:0.01:50]
 
-/* [Ellipsoid 10] */
-ellipsoid_10_cx = 0.2741; // [-50:0.01:50]
-ellipsoid_10_cy = 3.545; // [-50:0.01:50]
-ellipsoid_10_cz = -3.1806; // [-50:0.01:50]
-ellipsoid_10_rot_x = -84.403796; // [-180:0.1:180]
-ellipsoid_10_rot_y = -74.282201; // [-180:0.1:180]
-ellipsoid_10_rot_z = -94.075735; // [-180:0.1:180]
-ellipsoid_10_rx = 0.7494; // [0:0.01:50]
-ellipsoid_10_ry = 0.7583; // [0:0.01:50]
-ellipsoid_10_rz = 0.3106; // [0:0.01:50]
+/* [Box 8] */
+box_8_cx = 0.0003; // [-50:0.01:50]
+box_8_cy = -0.1431; // [-50:0.01:50]
+box_8_size_y = 8.1813; // [0:0.01:50]
+box_8_size_z = 8.4679; // [0:0.01:50]
+
+/* [Box 9] */
+box_9_cx = 0.468; // [-50:0.01:50]
+box_9_cy = -0.0841; // [-50:0.01:50]
+box_9_angle = 1.413777; // [-180:0.1:180]
+box_9_size_x = 9.3122; // [0:0.01:50]
+box_9_size_z = 10.4446; // [0:0.01:50]
+
+/* [Box 10] */
+box_10_cx = 0.3422; // [-50:0.01:50]
+box_10_cy = -3.7794; // [-50:0.01:50]
+box_10_size_y = 9.3155; // [0:0.01:50]
+box_10_size_z = 1.1952; // [0:0.01:50]
+
+/* [Cylinder 11] */
+cyl_11_cx = -0.4545; // [-50:0.01:50]
+cyl_11_cy = -0.0981; // [-50:0.01:50]
+cyl_11_cz = -4.0909; // [-50:0.01:50]
+cyl_11_rot_x = -89.999984; // [-180:0.1:180]
+cyl_11_rot_y = -90; // [-180:0.1:180]
+cyl_11_r = 0.9089; // [0:0.01:50]
+cyl_11_h = 10.1962; // [0:0.01:50]
+
+/* [Extrusion 4] */
+extrude_4_x = -0.4545; // [-50:0.01:50]
+extrude_4_rot_x = 90; // [-180:0.1:180]
+extrude_4_rot_z = 90; // [-180:0.1:180]
+extrude_4_h = 0.9089; // [0:0.01:50]
+
+/* [Box 12] */
+box_12_cx = 0.5136; // [-50:0.01:50]
+box_12_cy = -0.0226; // [-50:0.01:50]
+box_12_angle = 7.033416; // [-180:0.1:180]
+box_12_size_x = 10.1354; // [0:0.01:50]
+box_12_size_z = 11.368; // [0:0.01:50]
+
+/* [Box 13] */
+box_13_cx = -0.0981; // [-50:0.01:50]
+box_13_cy = -4.0909; // [-50:0.01:50]
+box_13_size_y = 10.1962; // [0:0.01:50]
+box_13_size_z = 1.8178; // [0:0.01:50]
+
+/* [Cylinder 14] */
+cyl_14_cx = -0.4558; // [-50:0.01:50]
+cyl_14_cy = -4.0904; // [-50:0.01:50]
+cyl_14_cz = -0.0981; // [-50:0.01:50]
+cyl_14_rot_y = 180; // [-180:0.1:180]
+cyl_14_h = 10.1962; // [0:0.01:50]
+
+/* [Cylinder 15] */
+cyl_15_cx = -0.4546; // [-50:0.01:50]
+cyl_15_cy = -1.6796; // [-50:0.01:50]
+cyl_15_cz = -4.8869; // [-50:0.01:50]
+cyl_15_rot_x = -71.724353; // [-180:0.1:180]
+cyl_15_rot_y = -180; // [-180:0.1:180]
+cyl_15_r = 0.9089; // [0:0.01:50]
+cyl_15_h = 12.8793; // [0:0.01:50]
+
+/* [Cylinder 16] */
+cyl_16_cx = -0.4546; // [-50:0.01:50]
+cyl_16_cy = -4.9142; // [-50:0.01:50]
+cyl_16_cz = -1.9574; // [-50:0.01:50]
+cyl_16_rot_x = -21.109781; // [-180:0.1:180]
+cyl_16_rot_y = 180; // [-180:0.1:180]
+cyl_16_r = 0.9089; // [0:0.01:50]
+cyl_16_h = 13.1841; // [0:0.01:50]
+
+/* [Cylinder 17] */
+cyl_17_cx = -0.4545; // [-50:0.01:50]
+cyl_17_cy = -3.7735; // [-50:0.01:50]
+cyl_17_cz = -4.364; // [-50:0.01:50]
+cyl_17_rot_x = -49.253054; // [-180:0.1:180]
+cyl_17_rot_y = 180; // [-180:0.1:180]
+cyl_17_r = 0.9089; // [0:0.01:50]
+cyl_17_h = 14.3799; // [0:0.01:50]
+
+/* [Cylinder 18] */
+cyl_18_cx = -0.4545; // [-50:0.01:50]
+cyl_18_cy = -0.6432; // [-50:0.01:50]
+cyl_18_cz = -4.516; // [-50:0.01:50]
+cyl_18_rot_x = -82.966584; // [-180:0.1:180]
+cyl_18_rot_y = -180; // [-180:0.1:180]
+cyl_18_r = 0.9089; // [0:0.01:50]
+cyl_18_h = 11.368; // [0:0.01:50]
+
+/* [Cylinder 19] */
+cyl_19_cx = -0.4545; // [-50:0.01:50]
+cyl_19_cy = -4.7527; // [-50:0.01:50]
+cyl_19_cz = -3.0452; // [-50:0.01:50]
+cyl_19_rot_x = -32.339881; // [-180:0.1:180]
+cyl_19_rot_y = -180; // [-180:0.1:180]
+cyl_19_r = 0.9089; // [0:0.01:50]
+cyl_19_h = 14.069; // [0:0.01:50]
+
+/* [Cylinder 20] */
+cyl_20_cx = -0.4545; // [-50:0.01:50]
+cyl_20_cy = -4.516; // [-50:0.01:50]
+cyl_20_cz = -0.6432; // [-50:0.01:50]
+cyl_20_rot_x = -7.033416; // [-180:0.1:180]
+cyl_20_rot_y = 180; // [-180:0.1:180]
+cyl_20_r = 0.9089; // [0:0.01:50]
+cyl_20_h = 11.368; // [0:0.01:50]
+
+/* [Cylinder 21] */
+cyl_21_cx = -0.4545; // [-50:0.01:50]
+cyl_21_cy = -2.7813; // [-50:0.01:50]
+cyl_21_cz = -4.8328; // [-50:0.01:50]
+cyl_21_rot_x = -60.459269; // [-180:0.1:180]
+cyl_21_rot_y = -180; // [-180:0.1:180]
+cyl_21_r = 0.9089; // [0:0.01:50]
+cyl_21_h = 13.8979; // [0:0.01:50]
+
+/* [Cylinder 22] */
+cyl_22_cx = -0.4545; // [-50:0.01:50]
+cyl_22_cy = -3.3011; // [-50:0.01:50]
+cyl_22_cz = -4.6468; // [-50:0.01:50]
+cyl_22_rot_x = -54.848527; // [-180:0.1:180]
+cyl_22_rot_y = 180; // [-180:0.1:180]
+cyl_22_r = 0.9089; // [0:0.01:50]
+cyl_22_h = 14.2071; // [0:0.01:50]
+
+/* [Cylinder 23] */
+cyl_23_cx = -0.4546; // [-50:0.01:50]
+cyl_23_cy = -4.8869; // [-50:0.01:50]
+cyl_23_cz = -2.5097; // [-50:0.01:50]
+cyl_23_rot_x = -26.730125; // [-180:0.1:180]
+cyl_23_rot_y = 180; // [-180:0.1:180]
+cyl_23_r = 0.9089; // [0:0.01:50]
+cyl_23_h = 13.6927; // [0:0.01:50]
+
+/* [Cylinder 24] */
+cyl_24_cx = -0.4545; // [-50:0.01:50]
+cyl_24_cy = -4.8328; // [-50:0.01:50]
+cyl_24_cz = -1.4077; // [-50:0.01:50]
+cyl_24_rot_x = -15.461218; // [-180:0.1:180]
+cyl_24_rot_y = 180; // [-180:0.1:180]
+cyl_24_r = 0.9089; // [0:0.01:50]
+cyl_24_h = 12.5453; // [0:0.01:50]
+
+/* [Cylinder 25] */
+cyl_25_cx = -0.4545; // [-50:0.01:50]
+cyl_25_cy = -1.1436; // [-50:0.01:50]
+cyl_25_cz = -4.7527; // [-50:0.01:50]
+cyl_25_rot_x = -77.340089; // [-180:0.1:180]
+cyl_25_rot_y = 180; // [-180:0.1:180]
+cyl_25_r = 0.9089; // [0:0.01:50]
+cyl_25_h = 12.1829; // [0:0.01:50]
+
+/* [Cylinder 26] */
+cyl_26_cx = -0.4546; // [-50:0.01:50]
+cyl_26_cy = -2.2344; // [-50:0.01:50]
+cyl_26_cz = -4.9141; // [-50:0.01:50]
+cyl_26_rot_x = -66.078417; // [-180:0.1:180]
+cyl_26_rot_y = 180; // [-180:0.1:180]
+cyl_26_r = 0.9089; // [0:0.01:50]
+cyl_26_h = 13.4547; // [0:0.01:50]
+
+/* [Cylinder 27] */
+cyl_27_cx = -0.4546; // [-50:0.01:50]
+cyl_27_cy = -0.2273; // [-50:0.01:50]
+cyl_27_cz = -4.2121; // [-50:0.01:50]
+cyl_27_rot_x = -88.20158; // [-180:0.1:180]
+cyl_27_rot_y = 180; // [-180:0.1:180]
+cyl_27_r = 0.9089; // [0:0.01:50]
+cyl_27_h = 10.5111; // [0:0.01:50]
+
+/* [Cylinder 28] */
+cyl_28_cx = -0.4545; // [-50:0.01:50]
+cyl_28_cy = -4.5155; // [-50:0.01:50]
+cyl_28_cz = -3.5466; // [-50:0.01:50]
+cyl_28_rot_x = -37.97806; // [-180:0.1:180]
+cyl_28_rot_y = 180; // [-180:0.1:180]
+cyl_28_r = 0.9089; // [0:0.01:50]
+cyl_28_h = 14.3114; // [0:0.01:50]
+
+/* [Cylinder 29] */
+cyl_29_cx = -0.4546; // [-50:0.01:50]
+cyl_29_cy = -4.7527; // [-50:0.01:50]
+cyl_29_cz = -1.1436; // [-50:0.01:50]
+cyl_29_rot_x = -12.659911; // [-180:0.1:180]
+cyl_29_rot_y = 180; // [-180:0.1:180]
+cyl_29_r = 0.9089; // [0:0.01:50]
+cyl_29_h = 12.1829; // [0:0.01:50]
+
+/* [Cylinder 30] */
+cyl_30_cx = -0.4545; // [-50:0.01:50]
+cyl_30_cy = -4.1859; // [-50:0.01:50]
+cyl_30_cz = -3.9908; // [-50:0.01:50]
+cyl_30_rot_x = -43.599346; // [-180:0.1:180]
+cyl_30_rot_y = -180; // [-180:0.1:180]
+cyl_30_r = 0.9089; // [0:0.01:50]
+cyl_30_h = 14.4153; // [0:0.01:50]
+
+/* [Box 31] */
+box_31_cx = -0.0001; // [-50:0.01:50]
+box_31_cy = -4.0904; // [-50:0.01:50]
+box_31_cz = -4.0909; // [-50:0.01:50]
+box_31_size_x = 0.9089; // [0:0.01:50]
+box_31_size_y = 1.8203; // [0:0.01:50]
+box_31_size_z = 1.8178; // [0:0.01:50]
+
+/* [Cylinder 32] */
+cyl_32_cx = 0.3645; // [-50:0.01:50]
+cyl_32_cy = 0.6359; // [-50:0.01:50]
+cyl_32_cz = -3.1816; // [-50:0.01:50]
+cyl_32_rot_x = -0.000004; // [-180:0.1:180]
+cyl_32_rot_y = 89.999982; // [-180:0.1:180]
+cyl_32_r = 0.7276; // [0:0.01:50]
+cyl_32_h = 0.5472; // [0:0.01:50]
+
+/* [Cylinder 33] */
+cyl_33_cx = 0.3645; // [-50:0.01:50]
+cyl_33_cy = -3.1819; // [-50:0.01:50]
+cyl_33_cz = -0.8179; // [-50:0.01:50]
+cyl_33_rot_x = -0.00001; // [-180:0.1:180]
+cyl_33_rot_y = 89.999997; // [-180:0.1:180]
+cyl_33_r = 0.725; // [0:0.01:50]
+cyl_33_h = 0.5472; // [0:0.01:50]
+
+/* [Cylinder 34] */
+cyl_34_cx = 0.3645; // [-50:0.01:50]
+cyl_34_cy = -3.1815; // [-50:0.01:50]
+cyl_34_cz = 2.0903; // [-50:0.01:50]
+cyl_34_rot_x = 0.000053; // [-180:0.1:180]
+cyl_34_rot_y = 89.999976; // [-180:0.1:180]
+cyl_34_r = 0.7273; // [0:0.01:50]
+cyl_34_h = 0.5472; // [0:0.01:50]
+
+/* [Cylinder 35] */
+cyl_35_cx = 0.3645; // [-50:0.01:50]
+cyl_35_cy = 3.5455; // [-50:0.01:50]
+cyl_35_cz = -3.1818; // [-50:0.01:50]
+cyl_35_rot_y = 90; // [-180:0.1:180]
+cyl_35_r = 0.7249; // [0:0.01:50]
+cyl_35_h = 0.5472; // [0:0.01:50]
+
+/* [Cylinder 36] */
+cyl_36_cx = 0; // [-50:0.01:50]
+cyl_36_cy = -3.1819; // [-50:0.01:50]
+cyl_36_cz = -0.8184; // [-50:0.01:50]
+cyl_36_rot_x = 0.000014; // [-180:0.1:180]
+cyl_36_rot_y = -89.999935; // [-180:0.1:180]
+cyl_36_r = 0.3714; // [0:0.01:50]
+cyl_36_h = 1.2763; // [0:0.01:50]
+
+/* [Cylinder 37] */
+cyl_37_cx = 0; // [-50:0.01:50]
+cyl_37_cy = -3.1818; // [-50:0.01:50]
+cyl_37_cz = 2.0909; // [-50:0.01:50]
+cyl_37_rot_y = 90; // [-180:0.1:180]
+cyl_37_r = 0.3715; // [0:0.01:50]
+
+/* [Cylinder 38] */
+cyl_38_cx = 0; // [-50:0.01:50]
+cyl_38_cy = 0.6364; // [-50:0.01:50]
+cyl_38_cz = -3.1818; // [-50:0.01:50]
+cyl_38_rot_y = 90; // [-180:0.1:180]
+cyl_38_r = 0.3715; // [0:0.01:50]
+
+/* [Cylinder 39] */
+cyl_39_cx = 0; // [-50:0.01:50]
+cyl_39_cy = 3.5455; // [-50:0.01:50]
+cyl_39_cz = -3.1818; // [-50:0.01:50]
+cyl_39_rot_y = 90; // [-180:0.1:180]
+cyl_39_r = 0.3715; // [0:0.01:50]
+
+/* [Cylinder 40] */
+cyl_40_cx = 0; // [-50:0.01:50]
+cyl_40_cy = 4.0909; // [-50:0.01:50]
+cyl_40_cz = 4.0909; // [-50:0.01:50]
+cyl_40_rot_y = 90; // [-180:0.1:180]
+cyl_40_r = 6.3633; // [0:0.01:50]
 
 /* [Hidden] */
 $fn = segments;
@@ -122,32 +361,72 @@ $fn = segments;
 // this radius gives the polygon the fitted circle's area instead.
 function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
-// OpenSCAD builds a sphere from floor(($fn + 1) / 2) rings of $fn-gons with their
-// vertices on the sphere: a stack of frusta. fn_sphere_volume is that polyhedron's
-// volume per (n / 2) sin(360 / n) at r = 1; fn_sr gives it the fitted sphere's volume.
-function fn_sphere_volume(rings, i = 0) = i >= rings - 1 ? 0 :
-  let(a = sin(180 * (i + 0.5) / rings), b = sin(180 * (i + 1.5) / rings),
-      h = cos(180 * (i + 0.5) / rings) - cos(180 * (i + 1.5) / rings))
-  h / 3 * (a * a + a * b + b * b) + fn_sphere_volume(rings, i + 1);
-function fn_sr(r) = r * pow(4 / 3 * PI / ($fn / 2 * sin(360 / $fn) *
-  fn_sphere_volume(floor(($fn + 1) / 2))), 1 / 3);
-
 module csg_high_res() {
   difference() {
     union() {
-      difference() {
-        translate([prism_1_cx, prism_1_cy, prism_1_cz]) rotate([prism_1_rot_x, prism_1_rot_y, prism_1_rot_z]) linear_extrude(height = prism_1_depth, center = true) polygon([[-prism_1_w / 2, -prism_1_h / 2], [prism_1_w / 2, -prism_1_h / 2], [prism_1_apex * prism_1_w / 2, prism_1_h / 2]]);
-        translate([box_2_cx, box_2_cy, box_2_cz]) rotate([box_2_rot_x, box_2_rot_y, box_2_rot_z]) cube([box_2_size_x, box_2_size_y, box_2_size_z], center = true);
-        translate([box_3_cx, box_3_cy, box_3_cz]) rotate([box_3_rot_x, box_3_rot_y, box_3_rot_z]) cube([box_3_size_x, box_3_size_y, box_3_size_z], center = true);
-        translate([cone_4_cx, cone_4_cy, cone_4_cz]) rotate([0, cone_4_rot_y, 0]) cylinder(h = cone_4_h, r1 = fn_r(cone_4_r1), r2 = fn_r(cone_4_r2), center = true);
-        translate([cone_5_cx, cone_5_cy, cone_5_cz]) rotate([cone_5_rot_x, cone_5_rot_y, 0]) cylinder(h = cone_5_h, r1 = fn_r(cone_5_r1), r2 = fn_r(cone_5_r2), center = true);
-        translate([prism_6_cx, prism_6_cy, prism_6_cz]) rotate([prism_6_rot_x, prism_6_rot_y, prism_6_rot_z]) linear_extrude(height = prism_6_depth, center = true) polygon([[-prism_6_w / 2, -prism_6_h / 2], [prism_6_w / 2, -prism_6_h / 2], [prism_6_apex * prism_6_w / 2, prism_6_h / 2]]);
-        translate([ellipsoid_7_cx, ellipsoid_7_cy, ellipsoid_7_cz]) rotate([0, ellipsoid_7_rot_y, 0]) scale([ellipsoid_7_rx, ellipsoid_7_ry, ellipsoid_7_rz]) sphere(r = fn_sr(1));
+      translate([0, 0, extrude_1_z]) linear_extrude(height = extrude_1_h)
+        intersection() {
+          translate([cyl_1_cx, cyl_1_cy]) circle(r = fn_r(cyl_r));
+          translate([box_2_cx, box_2_cy]) square([box_2_size_x, box_2_size_y], center = true);
+        }
+      translate([cyl_3_cx, cyl_3_cy, cyl_3_cz]) rotate([0, cyl_3_rot_y, 0]) cylinder(h = cyl_3_h, r = fn_r(cyl_3_r), center = true);
+      translate([cyl_4_cx, cyl_4_cy, cyl_4_cz]) rotate([0, cyl_4_rot_y, 0]) cylinder(h = cyl_4_h, r = fn_r(cyl_4_r), center = true);
+      translate([extrude_2_x, 0, 0]) rotate([extrude_2_rot_x, 0, extrude_2_rot_z]) linear_extrude(height = extrude_2_h)
+        intersection() {
+          translate([box_5_cx, box_5_cy]) rotate(box_5_angle) square([box_5_size_z, box_5_size_x], center = true);
+          translate([box_6_cx, box_6_cy]) square([box_6_size_y, box_6_size_z], center = true);
+        }
+      translate([extrude_3_x, 0, 0]) rotate([extrude_3_rot_x, 0, extrude_3_rot_z]) linear_extrude(height = extrude_3_h)
+        intersection() {
+          translate([box_7_cx, box_7_cy]) rotate(box_7_angle) square([box_7_size_z, box_7_size_x], center = true);
+          union() {
+            translate([box_8_cx, box_8_cy]) square([box_8_size_y, box_8_size_z], center = true);
+            intersection() {
+              translate([box_9_cx, box_9_cy]) rotate(box_9_angle) square([box_9_size_x, box_9_size_z], center = true);
+              translate([box_10_cx, box_10_cy]) square([box_10_size_y, box_10_size_z], center = true);
+            }
+          }
+        }
+      intersection() {
+        translate([cyl_11_cx, cyl_11_cy, cyl_11_cz]) rotate([cyl_11_rot_x, cyl_11_rot_y, 0]) cylinder(h = cyl_11_h, r = fn_r(cyl_11_r), center = true);
+        union() {
+          translate([extrude_4_x, 0, 0]) rotate([extrude_4_rot_x, 0, extrude_4_rot_z]) linear_extrude(height = extrude_4_h)
+            intersection() {
+              translate([box_12_cx, box_12_cy]) rotate(box_12_angle) square([box_12_size_x, box_12_size_z], center = true);
+              translate([box_13_cx, box_13_cy]) square([box_13_size_y, box_13_size_z], center = true);
+            }
+          intersection() {
+            translate([cyl_14_cx, cyl_14_cy, cyl_14_cz]) rotate([0, cyl_14_rot_y, 0]) cylinder(h = cyl_14_h, r = fn_r(cyl_r), center = true);
+            translate([cyl_15_cx, cyl_15_cy, cyl_15_cz]) rotate([cyl_15_rot_x, cyl_15_rot_y, 0]) cylinder(h = cyl_15_h, r = fn_r(cyl_15_r), center = true);
+            translate([cyl_16_cx, cyl_16_cy, cyl_16_cz]) rotate([cyl_16_rot_x, cyl_16_rot_y, 0]) cylinder(h = cyl_16_h, r = fn_r(cyl_16_r), center = true);
+            translate([cyl_17_cx, cyl_17_cy, cyl_17_cz]) rotate([cyl_17_rot_x, cyl_17_rot_y, 0]) cylinder(h = cyl_17_h, r = fn_r(cyl_17_r), center = true);
+            translate([cyl_18_cx, cyl_18_cy, cyl_18_cz]) rotate([cyl_18_rot_x, cyl_18_rot_y, 0]) cylinder(h = cyl_18_h, r = fn_r(cyl_18_r), center = true);
+            translate([cyl_19_cx, cyl_19_cy, cyl_19_cz]) rotate([cyl_19_rot_x, cyl_19_rot_y, 0]) cylinder(h = cyl_19_h, r = fn_r(cyl_19_r), center = true);
+            translate([cyl_20_cx, cyl_20_cy, cyl_20_cz]) rotate([cyl_20_rot_x, cyl_20_rot_y, 0]) cylinder(h = cyl_20_h, r = fn_r(cyl_20_r), center = true);
+            translate([cyl_21_cx, cyl_21_cy, cyl_21_cz]) rotate([cyl_21_rot_x, cyl_21_rot_y, 0]) cylinder(h = cyl_21_h, r = fn_r(cyl_21_r), center = true);
+            translate([cyl_22_cx, cyl_22_cy, cyl_22_cz]) rotate([cyl_22_rot_x, cyl_22_rot_y, 0]) cylinder(h = cyl_22_h, r = fn_r(cyl_22_r), center = true);
+            translate([cyl_23_cx, cyl_23_cy, cyl_23_cz]) rotate([cyl_23_rot_x, cyl_23_rot_y, 0]) cylinder(h = cyl_23_h, r = fn_r(cyl_23_r), center = true);
+            translate([cyl_24_cx, cyl_24_cy, cyl_24_cz]) rotate([cyl_24_rot_x, cyl_24_rot_y, 0]) cylinder(h = cyl_24_h, r = fn_r(cyl_24_r), center = true);
+            translate([cyl_25_cx, cyl_25_cy, cyl_25_cz]) rotate([cyl_25_rot_x, cyl_25_rot_y, 0]) cylinder(h = cyl_25_h, r = fn_r(cyl_25_r), center = true);
+            translate([cyl_26_cx, cyl_26_cy, cyl_26_cz]) rotate([cyl_26_rot_x, cyl_26_rot_y, 0]) cylinder(h = cyl_26_h, r = fn_r(cyl_26_r), center = true);
+            translate([cyl_27_cx, cyl_27_cy, cyl_27_cz]) rotate([cyl_27_rot_x, cyl_27_rot_y, 0]) cylinder(h = cyl_27_h, r = fn_r(cyl_27_r), center = true);
+            translate([cyl_28_cx, cyl_28_cy, cyl_28_cz]) rotate([cyl_28_rot_x, cyl_28_rot_y, 0]) cylinder(h = cyl_28_h, r = fn_r(cyl_28_r), center = true);
+            translate([cyl_29_cx, cyl_29_cy, cyl_29_cz]) rotate([cyl_29_rot_x, cyl_29_rot_y, 0]) cylinder(h = cyl_29_h, r = fn_r(cyl_29_r), center = true);
+            translate([cyl_30_cx, cyl_30_cy, cyl_30_cz]) rotate([cyl_30_rot_x, cyl_30_rot_y, 0]) cylinder(h = cyl_30_h, r = fn_r(cyl_30_r), center = true);
+            translate([box_31_cx, box_31_cy, box_31_cz]) cube([box_31_size_x, box_31_size_y, box_31_size_z], center = true);
+          }
+        }
       }
-      translate([prism_8_cx, prism_8_cy, prism_8_cz]) rotate([prism_8_rot_x, prism_8_rot_y, prism_8_rot_z]) linear_extrude(height = prism_8_depth, center = true) polygon([[-prism_8_w / 2, -prism_8_h / 2], [prism_8_w / 2, -prism_8_h / 2], [prism_8_apex * prism_8_w / 2, prism_8_h / 2]]);
-      translate([prism_9_cx, prism_9_cy, prism_9_cz]) rotate([prism_9_rot_x, prism_9_rot_y, prism_9_rot_z]) linear_extrude(height = prism_9_depth, center = true) polygon([[-prism_9_w / 2, -prism_9_h / 2], [prism_9_w / 2, -prism_9_h / 2], [prism_9_apex * prism_9_w / 2, prism_9_h / 2]]);
     }
-    translate([ellipsoid_10_cx, ellipsoid_10_cy, ellipsoid_10_cz]) rotate([ellipsoid_10_rot_x, ellipsoid_10_rot_y, ellipsoid_10_rot_z]) scale([ellipsoid_10_rx, ellipsoid_10_ry, ellipsoid_10_rz]) sphere(r = fn_sr(1));
+    translate([cyl_32_cx, cyl_32_cy, cyl_32_cz]) rotate([cyl_32_rot_x, cyl_32_rot_y, 0]) cylinder(h = cyl_32_h, r = fn_r(cyl_32_r), center = true);
+    translate([cyl_33_cx, cyl_33_cy, cyl_33_cz]) rotate([cyl_33_rot_x, cyl_33_rot_y, 0]) cylinder(h = cyl_33_h, r = fn_r(cyl_33_r), center = true);
+    translate([cyl_34_cx, cyl_34_cy, cyl_34_cz]) rotate([cyl_34_rot_x, cyl_34_rot_y, 0]) cylinder(h = cyl_34_h, r = fn_r(cyl_34_r), center = true);
+    translate([cyl_35_cx, cyl_35_cy, cyl_35_cz]) rotate([0, cyl_35_rot_y, 0]) cylinder(h = cyl_35_h, r = fn_r(cyl_35_r), center = true);
+    translate([cyl_36_cx, cyl_36_cy, cyl_36_cz]) rotate([cyl_36_rot_x, cyl_36_rot_y, 0]) cylinder(h = cyl_36_h, r = fn_r(cyl_36_r), center = true);
+    translate([cyl_37_cx, cyl_37_cy, cyl_37_cz]) rotate([0, cyl_37_rot_y, 0]) cylinder(h = hole_h, r = fn_r(cyl_37_r), center = true);
+    translate([cyl_38_cx, cyl_38_cy, cyl_38_cz]) rotate([0, cyl_38_rot_y, 0]) cylinder(h = hole_h2, r = fn_r(cyl_38_r), center = true);
+    translate([cyl_39_cx, cyl_39_cy, cyl_39_cz]) rotate([0, cyl_39_rot_y, 0]) cylinder(h = hole_h2, r = fn_r(cyl_39_r), center = true);
+    translate([cyl_40_cx, cyl_40_cy, cyl_40_cz]) rotate([0, cyl_40_rot_y, 0]) cylinder(h = hole_h, r = fn_r(cyl_40_r), center = true);
   }
 }
 

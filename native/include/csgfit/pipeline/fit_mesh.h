@@ -14,6 +14,11 @@
 
 namespace csgfit {
 
+/// The kinds a mesh or voxel fit uses unless told otherwise, for every front end: every
+/// analytic kind, the rounded box too, since it is the outline designers draw most (a plate's
+/// rounded rectangle, a slot).
+inline constexpr const char* kDefaultMeshPrimitives = "box,sphere,cylinder,cone,ellipsoid,torus,prism,rounded_box";
+
 /// How a mesh is turned into voxels for the fit.
 struct MeshFitOptions {
   /// Voxels along the longest side of the search grid; 0 = auto (about half a million voxels
