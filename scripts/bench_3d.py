@@ -124,8 +124,9 @@ def summary_cells(stderr):
 
 def openscad_stl(scad, stl, timeout, defines=None):
     """Renders scad to stl (written atomically so that a killed render is never cached);
-    `defines` ({name: value}) are OpenSCAD -D settings (bench_morph.py's frames)."""
-    tmp = stl + ".part.stl"
+    `defines` ({name: value}) are OpenSCAD -D settings (bench_morph.py's frames). A `stl`
+    ending in .csg gets OpenSCAD's flattened program instead."""
+    tmp = stl + ".part" + os.path.splitext(stl)[1]
     benchlib.remove_files(tmp)
     cmd = ["openscad"] + scad_raster.define_args(defines) + ["-o", tmp, scad]
     try:
@@ -310,7 +311,15 @@ def score_ours(bset, entry, row, target, args, errors):
     of."""
     scad = os.path.join(bset.out, entry["name"] + ".scad")
     stl = os.path.join(bset.out, entry["name"] + ".stl")
-    row["_ops"] = program_operations(scad)
+    # Counted on OpenSCAD's flattening, as the designer's: our .scad names its $fn and sizes
+    # as Customizer parameters, which OpenSCAD writes out as numbers.
+    flat = os.path.join(bset.out, entry["name"] + ".csg")
+    try:
+        openscad_stl(scad, flat, args.openscad_timeout)
+        row["_ops"] = program_operations(flat)
+    except Exception as exc:  # recorded, never fatal
+        row["_ops"] = program_operations(scad)
+        errors.append("flattening: %s" % exc)
     row["ops"] = ops_text(row["_ops"])
     gt = numeric([row], "gt_primitives")
     if gt and gt[0] > 0 and row.get("solver_primitives") not in ("", None):
