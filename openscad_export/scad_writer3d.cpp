@@ -319,9 +319,10 @@ std::string scad_text(const Node3D& tree, const ScadOptions3D& options, const No
   if (writer.uses_tori()) {
     out << "// A torus about the z axis: the circle of radius r at distance R, revolved. With\n"
            "// equal-area fn_r, stretching the profile by fn_r(1) across the axis gives the\n"
-           "// revolved $fn-gon the torus's volume; min() keeps it off the axis when r = R.\n";
+           "// revolved $fn-gon the torus's volume; min() keeps it a hair off the axis when\n"
+           "// r is about R (a profile touching the axis makes a mesh CGAL cannot subtract).\n";
     out << "module csg_torus(R, r)\n"
-           "  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), R / r), 1]) "
+           "  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), 0.999 * R / r), 1]) "
            "circle(r = fn_r(r));\n\n";
   }
   out << writer.modules();

@@ -13,7 +13,9 @@
 #include <string>
 
 #include "csgfit/error.h"
+#include "csgfit/model/mesh.h"
 #include "evaluator_reference.h"
+#include "openscad_meshes.h"
 #include "voxel_npy.h"
 #include "text_checks.h"
 
@@ -277,6 +279,18 @@ TEST(ScadWriter3D, EqualHolesShareOneRadiusAndHeightParameter) {
   EXPECT_EQ(occurrences(scad, "cylinder(h = hole_h, r = fn_r(hole_r), center = true)"), 2u) << scad;
   EXPECT_TRUE(lacks(scad, "cyl_2_r"));
   EXPECT_TRUE(lacks(scad, "cyl_3_h"));
+}
+
+// A horn torus (minor radius = major, where the search clamps it) cut from a block: its revolved
+// profile must stay off the axis, or OpenSCAD cannot subtract its mesh and drops it with an
+// error, rendering the uncut block.
+TEST(ScadWriter3D, AHornTorusCutFromABlockRendersCut) {
+  if (!testing::have_openscad()) GTEST_SKIP() << "openscad is not installed";
+  const Primitive3D torus = Primitive3D::torus(0, 0, 0, 3, 3);
+  const Node3D cut = Node3D::op(NodeKind::Difference, {Node3D::leaf(Primitive3D::box(0, 0, 0, 20, 20, 20)),
+                                                       Node3D::leaf(torus)});
+  const TriangleMesh mesh = testing::openscad_mesh(to_scad(cut, ScadOptions3D{}));
+  EXPECT_NEAR(signed_volume(mesh), 8000 - torus.volume(), 0.02 * torus.volume());
 }
 
 }  // namespace

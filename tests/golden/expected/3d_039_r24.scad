@@ -599,9 +599,10 @@ function fn_r(r) = r * sqrt(2 * PI / ($fn * sin(360 / $fn)));
 
 // A torus about the z axis: the circle of radius r at distance R, revolved. With
 // equal-area fn_r, stretching the profile by fn_r(1) across the axis gives the
-// revolved $fn-gon the torus's volume; min() keeps it off the axis when r = R.
+// revolved $fn-gon the torus's volume; min() keeps it a hair off the axis when
+// r is about R (a profile touching the axis makes a mesh CGAL cannot subtract).
 module csg_torus(R, r)
-  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), R / r), 1]) circle(r = fn_r(r));
+  rotate_extrude() translate([fn_r(R), 0]) scale([min(fn_r(1), 0.999 * R / r), 1]) circle(r = fn_r(r));
 
 module csg_high_res() {
   difference() {
