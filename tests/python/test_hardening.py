@@ -4,19 +4,12 @@ with its signature dump and never a silent truncation (run with /usr/bin/python3
 
 import os
 import re
-import sys
 import time
 
 import numpy as np
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUILD = os.environ.get("CSGFIT_BUILD_DIR", os.path.join(REPO, "build"))
-sys.path.insert(0, os.path.join(BUILD, "python"))
-try:
-    import csgfit
-except ImportError as e:  # pragma: no cover - depends on the build
-    pytest.skip(f"csgfit module not built in {BUILD}/python ({e})", allow_module_level=True)
+from built import REPO, csgfit  # noqa: E402
 
 SQUARE = np.zeros((24, 24), bool)
 SQUARE[6:18, 4:20] = True

@@ -8,22 +8,14 @@ import json
 import os
 import shutil
 import re
-import sys
 import threading
 import time
 
 import numpy as np
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUILD = os.environ.get("CSGFIT_BUILD_DIR", os.path.join(REPO, "build"))
-BENCH = os.path.join(os.path.dirname(REPO), "shared", "benchmarks", "2d")
-sys.path.insert(0, os.path.join(BUILD, "python"))
-try:
-    import csgfit
-except ImportError as e:  # pragma: no cover - depends on the build
-    pytest.skip(f"csgfit module not built in {BUILD}/python ({e}); configure with "
-                "-DCSGFIT_BUILD_PYTHON=ON or set CSGFIT_BUILD_DIR", allow_module_level=True)
+from built import BENCHMARKS, REPO, csgfit  # noqa: E402
+BENCH = os.path.join(BENCHMARKS, "2d")
 
 
 def rect_minus_circle(w=64, h=48):

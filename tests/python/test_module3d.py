@@ -2,22 +2,14 @@
 mesh the tests make themselves (run with /usr/bin/python3 -m pytest tests/python)."""
 
 import json
-import os
 import struct
-import sys
 import threading
 import time
 
 import numpy as np
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUILD = os.environ.get("CSGFIT_BUILD_DIR", os.path.join(REPO, "build"))
-sys.path.insert(0, os.path.join(BUILD, "python"))
-try:
-    import csgfit
-except ImportError as e:  # pragma: no cover - depends on the build
-    pytest.skip(f"csgfit module not built in {BUILD}/python ({e})", allow_module_level=True)
+from built import csgfit  # noqa: E402
 
 
 def box_minus_sphere(n=36):

@@ -4,15 +4,11 @@ written, bad clouds and arguments one line (run with /usr/bin/python3 -m pytest 
 
 import json
 import os
-import sys
 
 import numpy as np
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUILD = os.environ.get("CSGFIT_BUILD_DIR", os.path.join(REPO, "build"))
-sys.path.insert(0, os.path.join(BUILD, "python"))
-csgfit = pytest.importorskip("csgfit", reason=f"csgfit module not built in {BUILD}/python")
+from built import csgfit  # noqa: E402
 
 
 def box_points(lo=(0, 0, 0), hi=(20, 12, 8), step=0.5):

@@ -5,19 +5,12 @@ part (run with /usr/bin/python3 -m pytest tests/python)."""
 import json
 import os
 import shutil
-import sys
 
 import numpy as np
 import pytest
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUILD = os.environ.get("CSGFIT_BUILD_DIR", os.path.join(REPO, "build"))
-BENCH = os.path.join(os.path.dirname(REPO), "shared", "benchmarks", "range")
-sys.path.insert(0, os.path.join(BUILD, "python"))
-try:
-    import csgfit
-except ImportError as e:  # pragma: no cover - depends on the build
-    pytest.skip(f"csgfit module not built in {BUILD}/python ({e})", allow_module_level=True)
+from built import BENCHMARKS, csgfit  # noqa: E402
+BENCH = os.path.join(BENCHMARKS, "range")
 
 ORTHO = os.path.join(BENCH, "object_b_ortho.png")
 PINHOLE = os.path.join(BENCH, "object_b_pinhole.png")
