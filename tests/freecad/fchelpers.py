@@ -6,6 +6,7 @@ import contextlib
 import math
 import os
 import shutil
+import subprocess
 import sys
 
 import numpy as np
@@ -17,6 +18,8 @@ FREECAD_LIB = "/usr/lib/freecad-python3/lib"
 # FreeCAD's PySide shim, which the workbench imports Qt through; FreeCAD puts it on its own path.
 FREECAD_QT_SHIM = "/usr/share/freecad/Ext"
 WORKBENCH = os.path.join(REPO, "freecad_workbench")
+#: The workbench's headless JSON -> .FCStd writer, which `csgfit ... -o part.FCStd` runs.
+FCSTD_WRITER = os.path.join(WORKBENCH, "csgfit_freecad", "fcstd_writer.py")
 
 if FREECAD_LIB not in sys.path:
     sys.path.append(FREECAD_LIB)
@@ -359,3 +362,11 @@ def csgfit_or_skip():
     except ImportError as e:
         pytest.skip(f"csgfit module not built in {BUILD}/python ({e})")
     return csgfit
+
+
+def run_fcstd_writer(document, out):
+    """freecadcmd FCSTD_WRITER on the JSON document file `document`, writing `out`: the
+    CompletedProcess (or a pytest skip without freecadcmd)."""
+    env = dict(os.environ, CSGFIT_JSON=str(document), CSGFIT_FCSTD=str(out))
+    return subprocess.run([freecadcmd(), FCSTD_WRITER], env=env, capture_output=True, text=True,
+                          timeout=120)

@@ -25,7 +25,7 @@ from csgfit_freecad import builder  # noqa: E402
 
 BENCHMARKS = ["part_00", "glyph_P", "topopt_bridge"]
 PIXEL = 0.5
-WRITER = os.path.join(H.WORKBENCH, "csgfit_freecad", "fcstd_writer.py")
+WRITER = H.FCSTD_WRITER
 
 
 @pytest.fixture
@@ -253,12 +253,10 @@ def _check_fcstd(path, volume=None):
 
 
 def test_fcstd_writer_under_freecadcmd(tmp_path, doc):
-    exe = H.freecadcmd()
     src = tmp_path / "in.json"
     src.write_text(json.dumps(ALL_KINDS))
     out = tmp_path / "out.FCStd"
-    env = dict(os.environ, CSGFIT_JSON=str(src), CSGFIT_FCSTD=str(out))
-    proc = subprocess.run([exe, WRITER], env=env, capture_output=True, text=True, timeout=120)
+    proc = H.run_fcstd_writer(src, out)
     assert proc.returncode == 0, proc.stderr
     assert sorted(os.listdir(tmp_path)) == ["in.json", "out.FCStd"]  # no temporary left over
     _check_fcstd(out, builder.build(doc, ALL_KINDS).root.Shape.Volume)
@@ -267,8 +265,7 @@ def test_fcstd_writer_under_freecadcmd(tmp_path, doc):
     bad = tmp_path / "bad.json"
     bad.write_text('{"schema": "csgfit/1", "tree": {"type": "hexagon"}}')
     out2 = tmp_path / "bad.FCStd"
-    env = dict(os.environ, CSGFIT_JSON=str(bad), CSGFIT_FCSTD=str(out2))
-    proc = subprocess.run([exe, WRITER], env=env, capture_output=True, text=True, timeout=120)
+    proc = H.run_fcstd_writer(bad, out2)
     assert proc.returncode == 2
     assert "csgfit: error:" in proc.stderr and "hexagon" in proc.stderr
     assert not out2.exists()

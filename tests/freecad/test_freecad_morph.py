@@ -25,7 +25,7 @@ except ImportError as e:  # pragma: no cover
 
 from csgfit_freecad import builder, morph_builder  # noqa: E402
 
-WRITER = os.path.join(H.WORKBENCH, "csgfit_freecad", "fcstd_writer.py")
+
 THICKNESS = 2.0
 PI = math.pi
 
@@ -291,12 +291,10 @@ def test_saved_morph_reopens_and_follows_the_cell(tmp_path, doc):
 
 
 def test_fcstd_writer_builds_a_morph_document(tmp_path, doc):
-    exe = H.freecadcmd()
     src = tmp_path / "in.json"
     src.write_text(json.dumps(MORPH_3D))
     out = tmp_path / "out.FCStd"
-    env = dict(os.environ, CSGFIT_JSON=str(src), CSGFIT_FCSTD=str(out))
-    proc = subprocess.run([exe, WRITER], env=env, capture_output=True, text=True, timeout=120)
+    proc = H.run_fcstd_writer(src, out)
     assert proc.returncode == 0, proc.stderr
     assert sorted(os.listdir(tmp_path)) == ["in.json", "out.FCStd"]
     with H.reopened(out) as group:
@@ -311,8 +309,7 @@ def test_fcstd_writer_builds_a_morph_document(tmp_path, doc):
     del bad["morph"]["tree_b"]["children"][1]
     src.write_text(json.dumps(bad))
     out2 = tmp_path / "bad.FCStd"
-    env = dict(os.environ, CSGFIT_JSON=str(src), CSGFIT_FCSTD=str(out2))
-    proc = subprocess.run([exe, WRITER], env=env, capture_output=True, text=True, timeout=120)
+    proc = H.run_fcstd_writer(src, out2)
     assert proc.returncode == 2 and "structure" in proc.stderr
     assert not out2.exists()
 

@@ -30,7 +30,7 @@ except ImportError as e:  # pragma: no cover
 from csgfit_freecad import builder, nurbs_feature  # noqa: E402
 
 BLADE = os.path.join(os.path.dirname(H.REPO), "shared", "benchmarks", "points", "blade.gt.json")
-WRITER = os.path.join(H.WORKBENCH, "csgfit_freecad", "fcstd_writer.py")
+
 R90Z = [math.cos(math.pi / 4), 0, 0, math.sin(math.pi / 4)]   # 90 degrees about z
 TILT = [0.9, 0.3, -0.2, 0.25]                                 # not unit: normalised
 
@@ -373,8 +373,7 @@ def test_fcstd_writer_writes_a_nurbs_document(doc, tmp_path):
     src = tmp_path / "blade.json"
     src.write_text(json.dumps(document(leaf)))
     out = tmp_path / "blade.FCStd"
-    env = dict(os.environ, CSGFIT_JSON=str(src), CSGFIT_FCSTD=str(out))
-    proc = subprocess.run([exe, WRITER], env=env, capture_output=True, text=True, timeout=120)
+    proc = H.run_fcstd_writer(src, out)
     assert proc.returncode == 0, proc.stderr
     with H.reopened(out) as group:
         assert group.CsgFitRoot.Shape.Volume == pytest.approx(volume_under(leaf), rel=1e-6)
@@ -391,7 +390,7 @@ def test_fcstd_writer_writes_a_nurbs_document(doc, tmp_path):
     # A bad patch: one line, status 2, no file.
     src.write_text(json.dumps(document(blade_leaf(counts=[14, 4]))))
     out.unlink()
-    proc = subprocess.run([exe, WRITER], env=env, capture_output=True, text=True, timeout=120)
+    proc = H.run_fcstd_writer(src, out)
     assert proc.returncode == 2 and "csgfit: error:" in proc.stderr, proc.stderr
     assert not out.exists()
 
