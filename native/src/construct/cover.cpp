@@ -1,9 +1,9 @@
 #include "cover.h"
 
 #include <algorithm>
-#include <tuple>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <unordered_map>
 
 #include "model/linalg.h"

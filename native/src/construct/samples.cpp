@@ -124,13 +124,14 @@ void drop_volume_samples_near(const MeshSurface& s, double band, Samples& out) {
 // A face beside a curved surface (a ledge around a polygonal boss, the floor of a rounded
 // pocket) has face samples up to its edge, where the curve's facets and the round surface
 // that stands for them disagree: they too are on either side by the tessellation's whim.
-// first_pair: each surface's first face sample, and the end of the last.
-// Only about the curve's own facets: its surface runs on past them, through faces it does not
-// touch, whose samples may be all that tells two cells apart.
-void drop_face_samples_near_curves(const MeshSurfaces& ms, const std::vector<std::size_t>& first_pair, Samples& out) {
+// first_pair: each surface's first face sample, and the end of the last; stray: each surface's
+// sagitta. Only about the curve's own facets: its surface runs on past them, through faces it
+// does not touch, whose samples may be all that tells two cells apart.
+void drop_face_samples_near_curves(const MeshSurfaces& ms, const std::vector<std::size_t>& first_pair,
+                                   const std::vector<double>& strays, Samples& out) {
   for (std::size_t c = 0; c < ms.surfaces.size(); ++c) {
     const MeshSurface& curve = ms.surfaces[c];
-    const double stray = sagitta(ms, curve);
+    const double stray = strays[c];
     if (!(stray > 0)) continue;
     Bounds3 near{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
     for (int t : curve.triangles)
@@ -159,10 +160,12 @@ Samples sample_part(const MeshSurfaces& ms, const SampleOptions& o) {
   rnd::Rng rng(rnd::splitmix(o.seed));
   const std::size_t before = out.points.size();
   std::vector<std::size_t> first_pair;  // per surface, its first face sample
+  std::vector<double> strays;            // per surface, its sagitta
   for (const MeshSurface& s : ms.surfaces) {
     first_pair.push_back(out.points.size());
     const double floor_offset = kOffsetTolerances * ms.tolerance;
     const double stray = sagitta(ms, s);
+    strays.push_back(stray);
     const double offset = std::min(std::max(floor_offset, kOffsetSagittas * stray), kLongestOffset * ms.diagonal);
     if (stray > 0) drop_volume_samples_near(s, offset, out);
     const auto count = std::max<std::size_t>(static_cast<std::size_t>(o.fewest_per_surface),
@@ -174,7 +177,7 @@ Samples sample_part(const MeshSurfaces& ms, const SampleOptions& o) {
   out.real.resize(words, 0);
   for (std::size_t i = before; i < out.points.size(); ++i) set_bit(out.real, i);
   first_pair.push_back(out.points.size());
-  drop_face_samples_near_curves(ms, first_pair, out);
+  drop_face_samples_near_curves(ms, first_pair, strays, out);
   for (std::size_t i = out.points.size(); i < words * 64; ++i) out.points.push_back(out.domain.lo);
   return out;
 }
